@@ -1,0 +1,32 @@
+// User settings of the quadtree broadphase.
+#pragma once
+
+#include "quadphase/box.h"
+
+namespace quadphase
+{
+
+/// Settings of a quadtree broadphase. The defaults choose everything from the proxies.
+struct Config
+{
+    /// Depth of the pyramid (levels 0..depth), or -1 to choose it automatically (see docs/design.md, "Automatic
+    /// depth and bounds"). Fixed depths are clamped to [0, kMaxDepth].
+    int depth = -1;
+
+    /// Largest depth the automatic rule may pick; bounds memory (a pyramid of depth d has (4^(d+1)-1)/3 cells).
+    int maxDepth = 12;
+
+    /// When false, `bounds` is used as the square-ish region the pyramid covers; proxies outside it are clamped
+    /// into border cells (found, but slower). When true, the bounds follow the proxies automatically.
+    bool autoBounds = true;
+    Box bounds{-100.0f, -100.0f, 100.0f, 100.0f};
+
+    /// Target ratio of the finest cell's side to the median fat-box extent, used by the automatic depth.
+    /// Measured on this machine: 2-3 perform alike, 1.5 is worse.
+    float cellToProxyRatio = 2.0f;
+};
+
+/// Deepest pyramid allowed: 4^12 leaf cells already cost hundreds of MB.
+constexpr int kMaxDepth = 12;
+
+} // namespace quadphase

@@ -1,0 +1,56 @@
+// The fat-box policy of Box2D 2.4.1's b2DynamicTree, reproduced operation for operation so that the stored
+// boxes are bit-identical to the stock tree's. Contacts live and die on TestOverlap of these boxes, so any
+// difference here would change the simulation.
+#pragma once
+
+#include "quadphase/box.h"
+
+namespace quadphase
+{
+
+/// Margins in world units. Box2D's values are b2_aabbExtension (0.1 m) and b2_aabbMultiplier (4).
+struct FatPolicy
+{
+    float extension = 0.1f;  ///< grown on every side of the shape's box
+    float multiplier = 4.0f; ///< displacement prediction: the box is stretched by multiplier x displacement
+};
+
+/// Fat box of a newly created proxy: the shape's box grown by `extension` on every side.
+inline Box FattenNew(const FatPolicy& policy, const Box& tight)
+{
+    const float r = policy.extension;
+    return Box{tight.minX - r, tight.minY - r, tight.maxX + r, tight.maxY + r};
+}
+
+/// Decides whether a moved shape needs a new fat box, as b2DynamicTree::MoveProxy does.
+/// Returns false and leaves `stored` alone when the stored fat box still contains `tight` and is not too large
+/// (it lies inside the new fat box grown by a further 4 x extension). Otherwise writes the new fat box
+/// (grown by `extension`, then stretched by multiplier x displacement in the direction of motion) and returns true.
+inline bool Refatten(const FatPolicy& policy, Box& stored, const Box& tight, Vec2 displacement)
+{
+    const float r = policy.extension;
+    Box fat{tight.minX - r, tight.minY - r, tight.maxX + r, tight.maxY + r};
+
+    const float dx = policy.multiplier * displacement.x;
+    const float dy = policy.multiplier * displacement.y;
+    // Written as selects, not branches: the direction of motion is random per body, and a mispredicted branch
+    // costs more than both additions. The results are the same floats as Box2D's if/else.
+    fat.minX += dx < 0.0f ? dx : 0.0f;
+    fat.maxX += dx < 0.0f ? 0.0f : dx;
+    fat.minY += dy < 0.0f ? dy : 0.0f;
+    fat.maxY += dy < 0.0f ? 0.0f : dy;
+
+    if (Contains(stored, tight))
+    {
+        const float h = 4.0f * r;
+        const Box huge{fat.minX - h, fat.minY - h, fat.maxX + h, fat.maxY + h};
+        if (Contains(huge, stored))
+        {
+            return false;
+        }
+    }
+    stored = fat;
+    return true;
+}
+
+} // namespace quadphase

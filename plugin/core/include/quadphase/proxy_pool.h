@@ -1,0 +1,97 @@
+// Proxy records shared by every broadphase implementation: ids, fat boxes, user data and the move buffer.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "quadphase/box.h"
+
+namespace quadphase
+{
+
+using ProxyId = int32_t;
+
+/// Owns the proxies' fat boxes and user data, hands out ids (last freed, first reused, like b2DynamicTree's node
+/// pool) and keeps the move buffer: the proxies created, moved or touched since the last TakeBuffer, in call order,
+/// each at most once.
+///
+/// Invariants (checked by Validate):
+/// - an id is live exactly when it is not on the free list;
+/// - a live proxy is flagged buffered exactly when it appears in the move buffer; it appears at most once;
+/// - the live count equals the number of live ids.
+class ProxyPool
+{
+public:
+    /// Returns a new live id holding `fat` and `userData`; the proxy is not buffered.
+    ProxyId Allocate(const Box& fat, void* userData);
+
+    /// Frees a live id. Its move-buffer entry, if any, is dropped lazily by TakeBuffer.
+    void Free(ProxyId id);
+
+    /// True when `id` names a live proxy.
+    bool IsLive(ProxyId id) const
+    {
+        return id >= 0 && id < ProxyId(m_state.size()) && (m_state[size_t(id)] & kLive) != 0;
+    }
+
+    /// Reports ErrorCode::UnknownProxy naming `call` and returns false when `id` is not live.
+    bool CheckLive(ProxyId id, const char* call) const;
+
+    /// Adds a live proxy to the move buffer unless it is already there.
+    void Buffer(ProxyId id)
+    {
+        uint8_t& s = m_state[size_t(id)];
+        if ((s & kBuffered) == 0)
+        {
+            s |= kBuffered;
+            m_moveBuffer.push_back(id);
+        }
+    }
+
+    /// Moves the live buffered proxies, in buffer order, into `work` (cleared first) and empties the buffer.
+    /// Each proxy in `work` is flagged "in work" until ReleaseWork; see InWork.
+    void TakeBuffer(std::vector<ProxyId>& work);
+
+    /// Clears the "in work" flags set by TakeBuffer.
+    void ReleaseWork(const std::vector<ProxyId>& work);
+
+    /// True while `id` is in the work list taken by TakeBuffer. A pair of two such proxies is reported by the
+    /// smaller id only, so that every pair is reported once.
+    bool InWork(ProxyId id) const { return (m_state[size_t(id)] & kInWork) != 0; }
+
+    const Box& Fat(ProxyId id) const { return m_fat[size_t(id)]; }
+    Box& Fat(ProxyId id) { return m_fat[size_t(id)]; }
+    void* UserData(ProxyId id) const { return m_userData[size_t(id)]; }
+
+    /// Moves every live fat box by -newOrigin, with the same float operations as b2DynamicTree::ShiftOrigin.
+    void ShiftOrigin(Vec2 newOrigin);
+
+    int32_t LiveCount() const { return m_liveCount; }
+
+    /// One past the largest id ever handed out: live ids are in [0, IdBound()).
+    ProxyId IdBound() const { return ProxyId(m_state.size()); }
+
+    /// Number of entries in the move buffer, including those of proxies destroyed since.
+    int32_t BufferedCount() const { return int32_t(m_moveBuffer.size()); }
+
+    /// Heap bytes held.
+    int64_t MemoryBytes() const;
+
+    /// Checks the invariants above. Returns an empty string when they hold, otherwise the first violation.
+    std::string Validate() const;
+
+private:
+    static constexpr uint8_t kLive = 1;
+    static constexpr uint8_t kBuffered = 2;
+    static constexpr uint8_t kInWork = 4;
+
+    std::vector<Box> m_fat;
+    std::vector<void*> m_userData;
+    std::vector<uint8_t> m_state;
+    std::vector<ProxyId> m_freeList; // stack: last freed is reused first
+    std::vector<ProxyId> m_moveBuffer;
+    int32_t m_liveCount = 0;
+};
+
+} // namespace quadphase

@@ -1,0 +1,192 @@
+// The static quadtree: a complete pyramid of levels 0..depth over a square region, every level a dense
+// row-major grid (see row_major.h).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "quadphase/box.h"
+#include "quadphase/row_major.h"
+
+namespace quadphase
+{
+
+using ProxyId = int32_t;
+
+/// A proxy as stored in a cell: a copy of its fat box beside its id, so a cell's candidates are read from one
+/// contiguous array.
+struct Entry
+{
+    Box box;
+    ProxyId id;
+};
+
+/// The placement rule. Cell coordinates are computed once, at the deepest level, by a monotone function of the
+/// coordinate (subtract the origin, multiply by the inverse leaf size, clamp into [0, 2^depth - 1], truncate; NaN
+/// maps to 0); a coarser level's coordinate is that value shifted right. A proxy lives in exactly one cell: at the
+/// deepest level where the cells of its box's min and max corners are equal or adjacent on both axes, in the cell
+/// of its min corner. A proxy stored in cell c therefore lies within cells c and c+1 on each axis, so a box q can
+/// only overlap proxies of level l stored in cells [cell(q.min) - 1, cell(q.max)] on each axis. Because the
+/// coordinate function is monotone and both sides use it, this holds exactly in floating point, for boxes of any
+/// size, and for boxes outside the region (they are clamped into border cells: found, only slower).
+///
+/// Invariants (checked by Validate):
+/// - every stored id is in exactly one cell, the one the placement rule gives for its stored box;
+/// - Location(id) names that cell and the entry's slot in it, and its slot in its level's list;
+/// - a level's list holds exactly the ids stored in that level's cells.
+class Pyramid
+{
+public:
+    /// Empties the pyramid and sets its shape: levels 0..depth over the square [originX, originX + side) x
+    /// [originY, originY + side). Requires 0 <= depth <= 15 and side > 0.
+    void Reset(float originX, float originY, float side, int depth);
+
+    /// Stores `id` with box `box`. Requires id >= 0 and id not stored.
+    void Insert(ProxyId id, const Box& box);
+
+    /// Removes a stored id.
+    void Remove(ProxyId id);
+
+    /// Replaces the stored box of `id`, moving it to another cell when the placement rule says so.
+    /// Returns true when it changed cell.
+    bool Update(ProxyId id, const Box& box);
+
+    /// Calls visit(const Entry&) for every stored entry that may overlap `query` (a superset of the overlapping
+    /// ones, each entry at most once), level by level from the root, until visit returns false. The ranges of
+    /// a level are computed from `query` when that level starts, so a caller may shrink `query` (through the
+    /// reference it passed) while visiting. Cost per level: min(cells in the range, proxies in the level).
+    template <typename Visitor>
+    void Visit(const Box& query, Visitor&& visit) const;
+
+    int Depth() const { return m_depth; }
+    float LeafSize() const { return m_leafSize; }
+    Box Bounds() const { return Box{m_originX, m_originY, m_originX + m_side, m_originY + m_side}; }
+
+    /// Level a stored id lives at.
+    int LevelOf(ProxyId id) const { return m_location[size_t(id)].level; }
+
+    /// Number of proxies stored at `level`.
+    int32_t LevelCount(int level) const { return int32_t(m_levelProxies[size_t(level)].size()); }
+
+    /// Number of stored ids whose box is not inside the bounds.
+    int32_t OutsideCount() const { return m_outsideCount; }
+
+    /// Cells holding at least one proxy, and the size of the most crowded one. O(cells).
+    void CountOccupancy(int64_t& occupied, int64_t& largest) const;
+
+    /// Number of proxies in cell `index` of `level` (row-major). For drawing and tests.
+    int32_t CellCount(int level, int32_t index) const
+    {
+        return int32_t(m_cells[size_t(LevelOffset(level) + index)].size());
+    }
+
+    /// The (level, row-major index) the placement rule gives for `box`.
+    void Place(const Box& box, int& level, int32_t& index) const;
+
+    int64_t MemoryBytes() const;
+
+    /// Checks the invariants above. Empty string when they hold, otherwise the first violation.
+    std::string Validate() const;
+
+private:
+    struct Location
+    {
+        int32_t cell = -1;      // index into m_cells (all levels), -1 when not stored
+        int32_t slot = -1;      // index of the entry in that cell
+        int32_t levelSlot = -1; // index in m_levelProxies[level]
+        int8_t level = -1;
+        bool outside = false;
+    };
+
+    int32_t CoordX(float x) const
+    {
+        float t = (x - m_originX) * m_invLeaf;
+        t = t > 0.0f ? t : 0.0f; // also maps NaN to 0
+        t = t < m_maxCoord ? t : m_maxCoord;
+        return int32_t(t);
+    }
+    int32_t CoordY(float y) const
+    {
+        float t = (y - m_originY) * m_invLeaf;
+        t = t > 0.0f ? t : 0.0f;
+        t = t < m_maxCoord ? t : m_maxCoord;
+        return int32_t(t);
+    }
+    bool Inside(const Box& b) const
+    {
+        return m_originX <= b.minX && m_originY <= b.minY && b.maxX <= m_originX + m_side &&
+               b.maxY <= m_originY + m_side;
+    }
+    void PlaceCell(const Box& box, int& level, int32_t& cell) const;
+    void Store(ProxyId id, const Box& box, int level, int32_t cell);
+
+    int m_depth = 0;
+    float m_originX = 0.0f;
+    float m_originY = 0.0f;
+    float m_side = 1.0f;
+    float m_leafSize = 1.0f;
+    float m_invLeaf = 1.0f;
+    float m_maxCoord = 0.0f; // 2^depth - 1, as float
+
+    std::vector<std::vector<Entry>> m_cells;          // all levels, level l at LevelOffset(l)
+    std::vector<std::vector<ProxyId>> m_levelProxies; // per level
+    std::vector<Location> m_location;                 // per id
+    int32_t m_outsideCount = 0;
+};
+
+template <typename Visitor>
+void Pyramid::Visit(const Box& query, Visitor&& visit) const
+{
+    for (int level = 0; level <= m_depth; ++level)
+    {
+        const std::vector<ProxyId>& levelList = m_levelProxies[size_t(level)];
+        if (levelList.empty())
+        {
+            continue; // levels nobody uses cost one comparison
+        }
+        const int shift = m_depth - level;
+        int32_t x0 = (CoordX(query.minX) >> shift) - 1;
+        int32_t y0 = (CoordY(query.minY) >> shift) - 1;
+        const int32_t x1 = CoordX(query.maxX) >> shift;
+        const int32_t y1 = CoordY(query.maxY) >> shift;
+        x0 = x0 < 0 ? 0 : x0;
+        y0 = y0 < 0 ? 0 : y0;
+        if (x1 < x0 || y1 < y0)
+        {
+            continue;
+        }
+        const int64_t area = int64_t(x1 - x0 + 1) * int64_t(y1 - y0 + 1);
+        if (area > int64_t(levelList.size()))
+        {
+            // The range covers more cells than the level has proxies: walking the level's list is cheaper.
+            for (ProxyId id : levelList)
+            {
+                const Location& loc = m_location[size_t(id)];
+                if (!visit(m_cells[size_t(loc.cell)][size_t(loc.slot)]))
+                {
+                    return;
+                }
+            }
+            continue;
+        }
+        const int32_t side = LevelSide(level);
+        const int32_t offset = LevelOffset(level);
+        for (int32_t y = y0; y <= y1; ++y)
+        {
+            const int32_t rowBase = offset + y * side;
+            for (int32_t x = x0; x <= x1; ++x)
+            {
+                for (const Entry& e : m_cells[size_t(rowBase + x)])
+                {
+                    if (!visit(e))
+                    {
+                        return;
+                    }
+                }
+            }
+        }
+    }
+}
+
+} // namespace quadphase

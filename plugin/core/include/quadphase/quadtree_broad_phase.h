@@ -1,0 +1,89 @@
+// The static-quadtree broadphase: proxies in a Pyramid, pairs found by one independent query per buffered proxy.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "quadphase/broad_phase_interface.h"
+#include "quadphase/config.h"
+#include "quadphase/fat_policy.h"
+#include "quadphase/proxy_pool.h"
+#include "quadphase/pyramid.h"
+#include "quadphase/stats.h"
+
+namespace quadphase
+{
+
+/// Exact broadphase over a static quadtree (see Pyramid for the placement rule and why it misses nothing).
+///
+/// Cost model:
+/// - MoveProxy is O(1): the fat-box test, and when the box changed, an O(1) cell update.
+/// - FindPairs is O(buffered proxies x their neighbourhoods): one query per buffered proxy, never a pass over
+///   all proxies or all cells. Box2D calls it once per step and again after every time-of-impact event.
+/// - The pyramid is rebuilt (O(proxies)) when the automatic rule re-tunes depth and bounds: when the proxy
+///   count has doubled or fallen to a quarter since the last tuning, or when more than a quarter of the proxies
+///   lie outside the bounds; and on ShiftOrigin and Configure. See docs/design.md.
+///
+/// Determinism: the same sequence of calls gives the same ids, the same pairs and the same pair order.
+/// Threading: no call may overlap another, except const calls with each other.
+class QuadtreeBroadPhase final : public BroadPhaseInterface
+{
+public:
+    explicit QuadtreeBroadPhase(const FatPolicy& policy = FatPolicy{}, const Config& config = Config{});
+
+    ProxyId CreateProxy(const Box& tight, void* userData) override;
+    void DestroyProxy(ProxyId id) override;
+    bool MoveProxy(ProxyId id, const Box& tight, Vec2 displacement) override;
+    void TouchProxy(ProxyId id) override;
+    void FindPairs(std::vector<Pair>& out) override;
+    void Query(const Box& box, QueryFn fn, void* context) const override;
+    void RayCast(const RayInput& input, RayCastFn fn, void* context) const override;
+    void ShiftOrigin(Vec2 newOrigin) override;
+
+    /// The stored fat box. For an unknown id, reports ErrorCode::UnknownProxy and returns an empty box.
+    const Box& GetFatBox(ProxyId id) const override;
+    /// The user data, or nullptr for an unknown id (as b2BroadPhase::GetUserData documents).
+    void* GetUserData(ProxyId id) const override;
+    int32_t GetProxyCount() const override { return m_pool.LiveCount(); }
+
+    /// Overlap of two proxies' fat boxes. Unknown ids report an error and answer false.
+    bool TestOverlap(ProxyId a, ProxyId b) const;
+
+    /// Applies new settings and rebuilds the pyramid. Pairs already reported are unaffected.
+    void Configure(const Config& config);
+    const Config& GetConfig() const { return m_config; }
+
+    /// A snapshot of shape and work counters. O(cells) for the occupancy fields.
+    Stats GetStats() const;
+    void ResetCounters();
+
+    /// When true, MoveProxy, CreateProxy and DestroyProxy are timed into Stats::updateSeconds (two clock reads
+    /// per call). FindPairs is always timed.
+    void SetTiming(bool enabled) { m_timing = enabled; }
+
+    /// Read-only access for drawing and tests.
+    const Pyramid& GetPyramid() const { return m_pyramid; }
+    const ProxyPool& GetPool() const { return m_pool; }
+
+    /// Checks every invariant of the pool and the pyramid, and that each stored box equals the pool's fat box.
+    /// Empty string when all hold, otherwise the first violation. O(proxies + cells).
+    std::string Validate() const;
+
+private:
+    void Retune();
+    void Rebuild(float originX, float originY, float side, int depth);
+    bool NeedsRetune() const;
+    void QueryPairsOf(ProxyId q, std::vector<Pair>& out) const;
+
+    FatPolicy m_policy;
+    Config m_config;
+    ProxyPool m_pool;
+    Pyramid m_pyramid;
+    std::vector<ProxyId> m_work; // proxies whose pairs the current FindPairs searches
+    int32_t m_tunedCount = 0;    // live proxies at the last automatic tuning
+    bool m_timing = false;
+    mutable Stats m_counters;    // work counters only; shape fields are filled by GetStats
+};
+
+} // namespace quadphase

@@ -1,0 +1,152 @@
+#include "quadphase/proxy_pool.h"
+
+#include <string>
+
+#include "quadphase/error.h"
+
+namespace quadphase
+{
+
+ProxyId ProxyPool::Allocate(const Box& fat, void* userData)
+{
+    ProxyId id;
+    if (!m_freeList.empty())
+    {
+        id = m_freeList.back();
+        m_freeList.pop_back();
+        m_fat[size_t(id)] = fat;
+        m_userData[size_t(id)] = userData;
+        // A buffered flag left by the previous owner of this id stays: its entry is still in the move buffer.
+        m_state[size_t(id)] = uint8_t(kLive | (m_state[size_t(id)] & kBuffered));
+    }
+    else
+    {
+        id = ProxyId(m_state.size());
+        m_fat.push_back(fat);
+        m_userData.push_back(userData);
+        m_state.push_back(kLive);
+    }
+    ++m_liveCount;
+    return id;
+}
+
+void ProxyPool::Free(ProxyId id)
+{
+    // Keep kBuffered so that Buffer() will not append the id again while its old entry is in the move buffer.
+    m_state[size_t(id)] &= uint8_t(~kLive);
+    m_userData[size_t(id)] = nullptr;
+    m_freeList.push_back(id);
+    --m_liveCount;
+}
+
+bool ProxyPool::CheckLive(ProxyId id, const char* call) const
+{
+    if (IsLive(id))
+    {
+        return true;
+    }
+    ReportError(ErrorCode::UnknownProxy, "%s: proxy id %d is %s", call, int(id),
+                (id >= 0 && id < IdBound()) ? "already destroyed" : "out of range");
+    return false;
+}
+
+void ProxyPool::TakeBuffer(std::vector<ProxyId>& work)
+{
+    work.clear();
+    for (ProxyId id : m_moveBuffer)
+    {
+        uint8_t& s = m_state[size_t(id)];
+        s &= uint8_t(~kBuffered);
+        if ((s & kLive) != 0)
+        {
+            s |= kInWork;
+            work.push_back(id);
+        }
+    }
+    m_moveBuffer.clear();
+}
+
+void ProxyPool::ReleaseWork(const std::vector<ProxyId>& work)
+{
+    for (ProxyId id : work)
+    {
+        m_state[size_t(id)] &= uint8_t(~kInWork);
+    }
+}
+
+void ProxyPool::ShiftOrigin(Vec2 newOrigin)
+{
+    for (ProxyId id = 0; id < IdBound(); ++id)
+    {
+        if (IsLive(id))
+        {
+            Box& b = m_fat[size_t(id)];
+            b.minX -= newOrigin.x;
+            b.minY -= newOrigin.y;
+            b.maxX -= newOrigin.x;
+            b.maxY -= newOrigin.y;
+        }
+    }
+}
+
+int64_t ProxyPool::MemoryBytes() const
+{
+    return int64_t(m_fat.capacity() * sizeof(Box) + m_userData.capacity() * sizeof(void*) + m_state.capacity() +
+                   m_freeList.capacity() * sizeof(ProxyId) + m_moveBuffer.capacity() * sizeof(ProxyId));
+}
+
+std::string ProxyPool::Validate() const
+{
+    int32_t live = 0;
+    std::vector<uint8_t> onFreeList(m_state.size(), 0);
+    for (ProxyId id : m_freeList)
+    {
+        if (id < 0 || id >= IdBound())
+        {
+            return "free list holds out-of-range id " + std::to_string(id);
+        }
+        if (onFreeList[size_t(id)]++ != 0)
+        {
+            return "free list holds id " + std::to_string(id) + " twice";
+        }
+    }
+    for (ProxyId id = 0; id < IdBound(); ++id)
+    {
+        const bool isLive = (m_state[size_t(id)] & kLive) != 0;
+        if (isLive == (onFreeList[size_t(id)] != 0))
+        {
+            return "id " + std::to_string(id) + (isLive ? " is live and on the free list" : " is neither live nor free");
+        }
+        if ((m_state[size_t(id)] & kInWork) != 0)
+        {
+            return "id " + std::to_string(id) + " is still flagged in work outside FindPairs";
+        }
+        live += isLive ? 1 : 0;
+    }
+    if (live != m_liveCount)
+    {
+        return "live count " + std::to_string(m_liveCount) + " but " + std::to_string(live) + " live ids";
+    }
+    std::vector<uint8_t> seen(m_state.size(), 0);
+    for (ProxyId id : m_moveBuffer)
+    {
+        if (seen[size_t(id)]++ != 0)
+        {
+            return "move buffer holds id " + std::to_string(id) + " twice";
+        }
+        if ((m_state[size_t(id)] & kBuffered) == 0)
+        {
+            return "id " + std::to_string(id) + " is in the move buffer but not flagged buffered";
+        }
+    }
+    for (ProxyId id = 0; id < IdBound(); ++id)
+    {
+        if ((m_state[size_t(id)] & kBuffered) != 0 && seen[size_t(id)] == 0)
+        {
+            return "id " + std::to_string(id) + " is flagged buffered but not in the move buffer";
+        }
+    }
+    return {};
+}
+
+} // namespace quadphase

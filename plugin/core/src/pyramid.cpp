@@ -1,0 +1,226 @@
+#include "quadphase/pyramid.h"
+
+#include <string>
+
+namespace quadphase
+{
+namespace
+{
+
+// Number of significant bits of v > 0.
+int BitLength(uint32_t v)
+{
+    return 32 - __builtin_clz(v);
+}
+
+} // namespace
+
+void Pyramid::Reset(float originX, float originY, float side, int depth)
+{
+    m_depth = depth;
+    m_originX = originX;
+    m_originY = originY;
+    m_side = side;
+    m_leafSize = side / float(LevelSide(depth));
+    m_invLeaf = 1.0f / m_leafSize;
+    m_maxCoord = float(LevelSide(depth) - 1);
+
+    m_cells.clear();
+    m_cells.shrink_to_fit();
+    m_cells.resize(size_t(PyramidCellCount(depth)));
+    m_levelProxies.assign(size_t(depth + 1), {});
+    for (Location& loc : m_location)
+    {
+        loc = Location{};
+    }
+    m_outsideCount = 0;
+}
+
+void Pyramid::PlaceCell(const Box& box, int& level, int32_t& cell) const
+{
+    const int32_t ix0 = CoordX(box.minX);
+    const int32_t iy0 = CoordY(box.minY);
+    const int32_t ix1 = CoordX(box.maxX);
+    const int32_t iy1 = CoordY(box.maxY);
+    const int32_t dx = ix1 - ix0;
+    const int32_t dy = iy1 - iy0;
+    const int32_t d = dx > dy ? dx : dy;
+    // (b >> k) - (a >> k) <= ((b - a) >> k) + 1, so k = BitLength(d) always fits; often one less does.
+    int k = d <= 1 ? 0 : BitLength(uint32_t(d)) - 1;
+    while (((ix1 >> k) - (ix0 >> k)) > 1 || ((iy1 >> k) - (iy0 >> k)) > 1)
+    {
+        ++k;
+    }
+    level = m_depth - k;
+    cell = LevelOffset(level) + RowMajorIndex(level, ix0 >> k, iy0 >> k);
+}
+
+void Pyramid::Place(const Box& box, int& level, int32_t& index) const
+{
+    PlaceCell(box, level, index);
+    index -= LevelOffset(level);
+}
+
+void Pyramid::Store(ProxyId id, const Box& box, int level, int32_t cell)
+{
+    Location& loc = m_location[size_t(id)];
+    std::vector<Entry>& entries = m_cells[size_t(cell)];
+    loc.cell = cell;
+    loc.slot = int32_t(entries.size());
+    entries.push_back(Entry{box, id});
+    std::vector<ProxyId>& levelList = m_levelProxies[size_t(level)];
+    loc.level = int8_t(level);
+    loc.levelSlot = int32_t(levelList.size());
+    levelList.push_back(id);
+}
+
+void Pyramid::Insert(ProxyId id, const Box& box)
+{
+    if (size_t(id) >= m_location.size())
+    {
+        m_location.resize(size_t(id) + 1);
+    }
+    int level;
+    int32_t cell;
+    PlaceCell(box, level, cell);
+    Store(id, box, level, cell);
+    Location& loc = m_location[size_t(id)];
+    loc.outside = !Inside(box);
+    m_outsideCount += loc.outside ? 1 : 0;
+}
+
+void Pyramid::Remove(ProxyId id)
+{
+    Location& loc = m_location[size_t(id)];
+    std::vector<Entry>& entries = m_cells[size_t(loc.cell)];
+    const Entry& last = entries.back();
+    m_location[size_t(last.id)].slot = loc.slot;
+    entries[size_t(loc.slot)] = last;
+    entries.pop_back();
+
+    std::vector<ProxyId>& levelList = m_levelProxies[size_t(loc.level)];
+    const ProxyId lastId = levelList.back();
+    m_location[size_t(lastId)].levelSlot = loc.levelSlot;
+    levelList[size_t(loc.levelSlot)] = lastId;
+    levelList.pop_back();
+
+    m_outsideCount -= loc.outside ? 1 : 0;
+    loc = Location{};
+}
+
+bool Pyramid::Update(ProxyId id, const Box& box)
+{
+    int level;
+    int32_t cell;
+    PlaceCell(box, level, cell);
+    Location& loc = m_location[size_t(id)];
+    const bool outside = !Inside(box);
+    if (cell == loc.cell)
+    {
+        m_cells[size_t(cell)][size_t(loc.slot)].box = box;
+        m_outsideCount += int32_t(outside) - int32_t(loc.outside);
+        loc.outside = outside;
+        return false;
+    }
+    Remove(id);
+    Store(id, box, level, cell);
+    m_location[size_t(id)].outside = outside;
+    m_outsideCount += outside ? 1 : 0;
+    return true;
+}
+
+void Pyramid::CountOccupancy(int64_t& occupied, int64_t& largest) const
+{
+    occupied = 0;
+    largest = 0;
+    for (const std::vector<Entry>& entries : m_cells)
+    {
+        occupied += entries.empty() ? 0 : 1;
+        largest = int64_t(entries.size()) > largest ? int64_t(entries.size()) : largest;
+    }
+}
+
+int64_t Pyramid::MemoryBytes() const
+{
+    int64_t bytes = int64_t(m_cells.capacity() * sizeof(std::vector<Entry>));
+    for (const std::vector<Entry>& entries : m_cells)
+    {
+        bytes += int64_t(entries.capacity() * sizeof(Entry));
+    }
+    bytes += int64_t(m_levelProxies.capacity() * sizeof(std::vector<ProxyId>));
+    for (const std::vector<ProxyId>& list : m_levelProxies)
+    {
+        bytes += int64_t(list.capacity() * sizeof(ProxyId));
+    }
+    bytes += int64_t(m_location.capacity() * sizeof(Location));
+    return bytes;
+}
+
+std::string Pyramid::Validate() const
+{
+    if (m_cells.size() != size_t(PyramidCellCount(m_depth)) || m_levelProxies.size() != size_t(m_depth + 1))
+    {
+        return "pyramid arrays do not match depth " + std::to_string(m_depth);
+    }
+    int32_t stored = 0;
+    int32_t outside = 0;
+    for (int32_t cell = 0; cell < int32_t(m_cells.size()); ++cell)
+    {
+        const std::vector<Entry>& entries = m_cells[size_t(cell)];
+        for (int32_t slot = 0; slot < int32_t(entries.size()); ++slot)
+        {
+            const Entry& e = entries[size_t(slot)];
+            if (e.id < 0 || size_t(e.id) >= m_location.size())
+            {
+                return "cell " + std::to_string(cell) + " holds out-of-range id " + std::to_string(e.id);
+            }
+            const Location& loc = m_location[size_t(e.id)];
+            if (loc.cell != cell || loc.slot != slot)
+            {
+                return "id " + std::to_string(e.id) + " is in cell " + std::to_string(cell) + " slot " +
+                       std::to_string(slot) + " but its location says cell " + std::to_string(loc.cell) + " slot " +
+                       std::to_string(loc.slot);
+            }
+            int level;
+            int32_t expected;
+            PlaceCell(e.box, level, expected);
+            if (expected != cell || level != loc.level)
+            {
+                return "id " + std::to_string(e.id) + " is in cell " + std::to_string(cell) +
+                       " but the placement rule gives cell " + std::to_string(expected);
+            }
+            if (loc.outside != !Inside(e.box))
+            {
+                return "id " + std::to_string(e.id) + " has a stale outside flag";
+            }
+            outside += loc.outside ? 1 : 0;
+            ++stored;
+        }
+    }
+    int32_t listed = 0;
+    for (int level = 0; level <= m_depth; ++level)
+    {
+        const std::vector<ProxyId>& list = m_levelProxies[size_t(level)];
+        for (int32_t i = 0; i < int32_t(list.size()); ++i)
+        {
+            const Location& loc = m_location[size_t(list[size_t(i)])];
+            if (loc.level != level || loc.levelSlot != i || loc.cell < 0)
+            {
+                return "level " + std::to_string(level) + " list slot " + std::to_string(i) + " holds id " +
+                       std::to_string(list[size_t(i)]) + " whose location disagrees";
+            }
+        }
+        listed += int32_t(list.size());
+    }
+    if (listed != stored)
+    {
+        return "level lists hold " + std::to_string(listed) + " ids but cells hold " + std::to_string(stored);
+    }
+    if (outside != m_outsideCount)
+    {
+        return "outside count " + std::to_string(m_outsideCount) + " but " + std::to_string(outside) + " outside";
+    }
+    return {};
+}
+
+} // namespace quadphase

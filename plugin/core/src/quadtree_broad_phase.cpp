@@ -1,0 +1,409 @@
+#include "quadphase/quadtree_broad_phase.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "quadphase/error.h"
+
+namespace quadphase
+{
+namespace
+{
+
+using Clock = std::chrono::steady_clock;
+
+double SecondsSince(Clock::time_point start)
+{
+    return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// Reports non-finite and inverted boxes. The box is stored anyway: Pyramid places any box somewhere (NaN maps to
+// cell 0), and Overlaps answers false for NaN, so a corrupted proxy gets no pairs and the others keep theirs.
+void CheckBox(const Box& b, const char* call, ProxyId id)
+{
+    if (!IsFinite(b))
+    {
+        ReportError(ErrorCode::NonFiniteBox, "%s: proxy %d got box (%g, %g)-(%g, %g)", call, int(id), double(b.minX),
+                    double(b.minY), double(b.maxX), double(b.maxY));
+    }
+    else if (!IsOrdered(b))
+    {
+        ReportError(ErrorCode::InvertedBox, "%s: proxy %d got box (%g, %g)-(%g, %g) with min > max", call, int(id),
+                    double(b.minX), double(b.minY), double(b.maxX), double(b.maxY));
+    }
+}
+
+const Box kEmptyBox{0.0f, 0.0f, 0.0f, 0.0f};
+
+// Percentile p (0..1) of values, reordering them.
+float Percentile(std::vector<float>& values, double p)
+{
+    const size_t k = std::min(values.size() - 1, size_t(p * double(values.size() - 1) + 0.5));
+    std::nth_element(values.begin(), values.begin() + std::ptrdiff_t(k), values.end());
+    return values[k];
+}
+
+} // namespace
+
+QuadtreeBroadPhase::QuadtreeBroadPhase(const FatPolicy& policy, const Config& config)
+    : m_policy(policy)
+    , m_config(config)
+{
+    Retune();
+}
+
+ProxyId QuadtreeBroadPhase::CreateProxy(const Box& tight, void* userData)
+{
+    const Clock::time_point start = m_timing ? Clock::now() : Clock::time_point{};
+    const Box fat = FattenNew(m_policy, tight);
+    const ProxyId id = m_pool.Allocate(fat, userData);
+    CheckBox(tight, "CreateProxy", id);
+    m_pyramid.Insert(id, fat);
+    m_pool.Buffer(id);
+    if (m_pool.LiveCount() > 2 * m_tunedCount && (m_config.depth < 0 || m_config.autoBounds))
+    {
+        // Re-tune while a scene is being built, so queries made before the first step are not all in one cell.
+        // Doubling keeps the total rebuild work linear in the number of creations.
+        Retune();
+    }
+    if (m_timing)
+    {
+        m_counters.updateSeconds += SecondsSince(start);
+    }
+    return id;
+}
+
+void QuadtreeBroadPhase::DestroyProxy(ProxyId id)
+{
+    if (!m_pool.CheckLive(id, "DestroyProxy"))
+    {
+        return;
+    }
+    const Clock::time_point start = m_timing ? Clock::now() : Clock::time_point{};
+    m_pyramid.Remove(id);
+    m_pool.Free(id);
+    if (m_timing)
+    {
+        m_counters.updateSeconds += SecondsSince(start);
+    }
+}
+
+bool QuadtreeBroadPhase::MoveProxy(ProxyId id, const Box& tight, Vec2 displacement)
+{
+    if (!m_pool.CheckLive(id, "MoveProxy"))
+    {
+        return false;
+    }
+    const Clock::time_point start = m_timing ? Clock::now() : Clock::time_point{};
+    Box& fat = m_pool.Fat(id);
+    if (!Refatten(m_policy, fat, tight, displacement))
+    {
+        return false;
+    }
+    CheckBox(tight, "MoveProxy", id);
+    m_counters.reinserts += m_pyramid.Update(id, fat) ? 1 : 0;
+    m_pool.Buffer(id);
+    if (m_timing)
+    {
+        m_counters.updateSeconds += SecondsSince(start);
+    }
+    return true;
+}
+
+void QuadtreeBroadPhase::TouchProxy(ProxyId id)
+{
+    if (m_pool.CheckLive(id, "TouchProxy"))
+    {
+        m_pool.Buffer(id);
+    }
+}
+
+const Box& QuadtreeBroadPhase::GetFatBox(ProxyId id) const
+{
+    return m_pool.CheckLive(id, "GetFatAABB") ? m_pool.Fat(id) : kEmptyBox;
+}
+
+void* QuadtreeBroadPhase::GetUserData(ProxyId id) const
+{
+    return m_pool.IsLive(id) ? m_pool.UserData(id) : nullptr;
+}
+
+bool QuadtreeBroadPhase::TestOverlap(ProxyId a, ProxyId b) const
+{
+    if (!m_pool.CheckLive(a, "TestOverlap") || !m_pool.CheckLive(b, "TestOverlap"))
+    {
+        return false;
+    }
+    return Overlaps(m_pool.Fat(a), m_pool.Fat(b));
+}
+
+void QuadtreeBroadPhase::QueryPairsOf(ProxyId q, std::vector<Pair>& out) const
+{
+    const Box qb = m_pool.Fat(q);
+    m_pyramid.Visit(qb, [&](const Entry& e) {
+        if (e.id != q && Overlaps(e.box, qb))
+        {
+            // A pair of two buffered proxies is found from both sides; keep it from the smaller id only.
+            if (!(e.id > q && m_pool.InWork(e.id)))
+            {
+                out.push_back(e.id < q ? Pair{e.id, q} : Pair{q, e.id});
+            }
+        }
+        return true;
+    });
+}
+
+void QuadtreeBroadPhase::FindPairs(std::vector<Pair>& out)
+{
+    const Clock::time_point start = Clock::now();
+    if (NeedsRetune())
+    {
+        Retune();
+    }
+    m_pool.TakeBuffer(m_work);
+    const size_t before = out.size();
+    for (ProxyId q : m_work)
+    {
+        QueryPairsOf(q, out);
+    }
+    m_pool.ReleaseWork(m_work);
+
+    const int64_t found = int64_t(out.size() - before);
+    m_counters.updatePairsCalls += 1;
+    m_counters.pairsReported += found;
+    m_counters.lastPairs = found;
+    m_counters.proxiesQueried += int64_t(m_work.size());
+    m_counters.pairSeconds += SecondsSince(start);
+}
+
+void QuadtreeBroadPhase::Query(const Box& box, QueryFn fn, void* context) const
+{
+    m_pyramid.Visit(box, [&](const Entry& e) { return Overlaps(e.box, box) ? fn(context, e.id) : true; });
+}
+
+void QuadtreeBroadPhase::RayCast(const RayInput& input, RayCastFn fn, void* context) const
+{
+    SegmentTest segment(input);
+    // Visit reads the range of each level from this box, so clipping the ray shrinks the search of later levels.
+    Box range = segment.Bounds();
+    m_pyramid.Visit(range, [&](const Entry& e) {
+        if (!segment.MayCross(e.box))
+        {
+            return true;
+        }
+        const RayInput sub{input.p1, input.p2, segment.MaxFraction()};
+        const float value = fn(context, sub, e.id);
+        if (value == 0.0f)
+        {
+            return false; // the caller ended the ray cast
+        }
+        if (value > 0.0f)
+        {
+            segment.Clip(value);
+            range = segment.Bounds();
+        }
+        return true;
+    });
+}
+
+void QuadtreeBroadPhase::ShiftOrigin(Vec2 newOrigin)
+{
+    m_pool.ShiftOrigin(newOrigin);
+    // The world moved, so the region it lives in moves with it.
+    const Box bounds = m_pyramid.Bounds();
+    m_config.bounds.minX -= newOrigin.x;
+    m_config.bounds.minY -= newOrigin.y;
+    m_config.bounds.maxX -= newOrigin.x;
+    m_config.bounds.maxY -= newOrigin.y;
+    Rebuild(bounds.minX - newOrigin.x, bounds.minY - newOrigin.y, bounds.maxX - bounds.minX, m_pyramid.Depth());
+}
+
+void QuadtreeBroadPhase::Configure(const Config& config)
+{
+    m_config = config;
+    Retune();
+}
+
+bool QuadtreeBroadPhase::NeedsRetune() const
+{
+    if (m_config.depth >= 0 && !m_config.autoBounds)
+    {
+        return false;
+    }
+    const int32_t n = m_pool.LiveCount();
+    if (n > 2 * m_tunedCount || (m_tunedCount > 64 && 4 * n < m_tunedCount))
+    {
+        return true;
+    }
+    return m_config.autoBounds && n > 32 && m_pyramid.OutsideCount() > n / 4;
+}
+
+// The automatic rule (docs/design.md, "Automatic depth and bounds"):
+// - bounds: the box holding the centres of the proxies' fat boxes, from the 1st to the 99th percentile on each
+//   axis when there are at least 200 proxies (so a few far-away bodies do not stretch the grid), grown on every
+//   side by the median fat-box extent, made square;
+// - depth: the smallest depth whose leaf side is at most cellToProxyRatio x the median fat-box extent, capped so
+//   that the deepest level has at most 2 cells per proxy (4^depth <= 2 n) and by maxDepth.
+void QuadtreeBroadPhase::Retune()
+{
+    const int32_t n = m_pool.LiveCount();
+    std::vector<float> cx, cy, extent;
+    cx.reserve(size_t(n));
+    cy.reserve(size_t(n));
+    extent.reserve(size_t(n));
+    for (ProxyId id = 0; id < m_pool.IdBound(); ++id)
+    {
+        if (!m_pool.IsLive(id))
+        {
+            continue;
+        }
+        const Box& b = m_pool.Fat(id);
+        if (!IsFinite(b) || !IsOrdered(b))
+        {
+            continue;
+        }
+        cx.push_back(0.5f * b.minX + 0.5f * b.maxX);
+        cy.push_back(0.5f * b.minY + 0.5f * b.maxY);
+        extent.push_back(std::max(b.maxX - b.minX, b.maxY - b.minY));
+    }
+
+    float originX, originY, side;
+    float medianExtent = extent.empty() ? 1.0f : Percentile(extent, 0.5);
+    if (!(medianExtent > 0.0f) || !std::isfinite(medianExtent))
+    {
+        medianExtent = 1.0f;
+    }
+    if (m_config.autoBounds)
+    {
+        if (cx.empty())
+        {
+            originX = m_config.bounds.minX;
+            originY = m_config.bounds.minY;
+            side = std::max(m_config.bounds.maxX - m_config.bounds.minX, m_config.bounds.maxY - m_config.bounds.minY);
+        }
+        else
+        {
+            const double lo = cx.size() >= 200 ? 0.01 : 0.0;
+            const double hi = cx.size() >= 200 ? 0.99 : 1.0;
+            const float x0 = Percentile(cx, lo), x1 = Percentile(cx, hi);
+            const float y0 = Percentile(cy, lo), y1 = Percentile(cy, hi);
+            originX = x0 - medianExtent;
+            originY = y0 - medianExtent;
+            side = std::max(x1 - x0, y1 - y0) + 2.0f * medianExtent;
+        }
+    }
+    else
+    {
+        originX = m_config.bounds.minX;
+        originY = m_config.bounds.minY;
+        side = std::max(m_config.bounds.maxX - m_config.bounds.minX, m_config.bounds.maxY - m_config.bounds.minY);
+    }
+    if (!(side > 0.0f) || !std::isfinite(side))
+    {
+        side = 1.0f;
+    }
+
+    int depth;
+    if (m_config.depth >= 0)
+    {
+        depth = std::min(m_config.depth, kMaxDepth);
+    }
+    else
+    {
+        const float target = m_config.cellToProxyRatio * medianExtent;
+        depth = int(std::ceil(std::log2(double(side) / double(target))));
+        // 4^depth <= 2n  <=>  depth <= log2(2n) / 2
+        const int memoryCap = int(std::floor(std::log2(2.0 * std::max(n, 1)) / 2.0));
+        depth = std::max(0, std::min({depth, memoryCap, std::min(m_config.maxDepth, kMaxDepth)}));
+    }
+    m_tunedCount = n;
+    Rebuild(originX, originY, side, depth);
+}
+
+void QuadtreeBroadPhase::Rebuild(float originX, float originY, float side, int depth)
+{
+    m_pyramid.Reset(originX, originY, side, depth);
+    for (ProxyId id = 0; id < m_pool.IdBound(); ++id)
+    {
+        if (m_pool.IsLive(id))
+        {
+            m_pyramid.Insert(id, m_pool.Fat(id));
+        }
+    }
+    m_counters.rebuilds += 1;
+}
+
+Stats QuadtreeBroadPhase::GetStats() const
+{
+    Stats s = m_counters;
+    s.depth = m_pyramid.Depth();
+    s.bounds = m_pyramid.Bounds();
+    s.leafSize = m_pyramid.LeafSize();
+    s.proxyCount = m_pool.LiveCount();
+    s.outsideCount = m_pyramid.OutsideCount();
+    m_pyramid.CountOccupancy(s.occupiedCells, s.largestCell);
+    s.proxiesPerLevel.resize(size_t(s.depth + 1));
+    for (int level = 0; level <= s.depth; ++level)
+    {
+        s.proxiesPerLevel[size_t(level)] = m_pyramid.LevelCount(level);
+    }
+    s.memoryBytes = m_pool.MemoryBytes() + m_pyramid.MemoryBytes() + int64_t(m_work.capacity() * sizeof(ProxyId));
+    return s;
+}
+
+void QuadtreeBroadPhase::ResetCounters()
+{
+    const int64_t rebuilds = m_counters.rebuilds;
+    m_counters = Stats{};
+    m_counters.rebuilds = rebuilds;
+}
+
+std::string QuadtreeBroadPhase::Validate() const
+{
+    std::string problem = m_pool.Validate();
+    if (!problem.empty())
+    {
+        return "pool: " + problem;
+    }
+    problem = m_pyramid.Validate();
+    if (!problem.empty())
+    {
+        return "pyramid: " + problem;
+    }
+    int32_t stored = 0;
+    for (int level = 0; level <= m_pyramid.Depth(); ++level)
+    {
+        stored += m_pyramid.LevelCount(level);
+    }
+    if (stored != m_pool.LiveCount())
+    {
+        return "pyramid stores " + std::to_string(stored) + " proxies but " + std::to_string(m_pool.LiveCount()) +
+               " are live";
+    }
+    // Every live proxy's stored box is its fat box: found through a query of its own box.
+    for (ProxyId id = 0; id < m_pool.IdBound(); ++id)
+    {
+        if (!m_pool.IsLive(id))
+        {
+            continue;
+        }
+        bool found = false;
+        const Box& fat = m_pool.Fat(id);
+        m_pyramid.Visit(fat, [&](const Entry& e) {
+            if (e.id == id)
+            {
+                found = SameBits(e.box, fat) || !IsFinite(fat);
+                return false;
+            }
+            return true;
+        });
+        if (!found)
+        {
+            return "proxy " + std::to_string(id) + " is not found by a query of its own fat box";
+        }
+    }
+    return {};
+}
+
+} // namespace quadphase
