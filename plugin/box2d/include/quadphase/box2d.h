@@ -1,0 +1,38 @@
+// quadphase's API for Box2D users: settings, statistics and validation of a b2World's broadphase.
+// Only available when linking quadphase::box2d (the stock build has no quadtree).
+#pragma once
+
+#include "box2d/b2_world.h"
+#include "quadphase/config.h"
+#include "quadphase/shadow_validator.h"
+#include "quadphase/stats.h"
+
+namespace quadphase
+{
+
+/// Applies settings to the world's broadphase and rebuilds its quadtree (O(proxies)). Call between steps.
+void Configure(b2World& world, const Config& config);
+
+/// The world's current settings.
+Config GetConfig(const b2World& world);
+
+/// Shape and work counters of the world's broadphase. O(cells).
+Stats GetStats(const b2World& world);
+
+/// Zeroes the work counters (pairs, calls, times).
+void ResetCounters(b2World& world);
+
+/// Times MoveProxy/CreateProxy/DestroyProxy into Stats::updateSeconds (costs two clock reads per call).
+void SetTiming(b2World& world, bool enabled);
+
+/// Switches validation mode (a shadow b2DynamicTree checked at every UpdatePairs; see ShadowValidator).
+/// QUADPHASE_VALIDATE=1 in the environment switches it on for every world from its creation.
+void SetValidation(b2World& world, bool enabled);
+
+/// What validation found; all zero when it is off.
+ValidationReport GetValidationReport(const b2World& world);
+
+/// The world's quadtree, for drawing and inspection. Valid while the world lives.
+const QuadtreeBroadPhase& GetQuadtree(const b2World& world);
+
+} // namespace quadphase

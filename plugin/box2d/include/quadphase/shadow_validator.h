@@ -1,0 +1,66 @@
+// Validation mode of the Box2D adapter: a shadow b2DynamicTree fed the same calls as the quadtree.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "box2d/b2_collision.h"
+#include "box2d/b2_dynamic_tree.h"
+#include "quadphase/quadtree_broad_phase.h"
+
+namespace quadphase
+{
+
+/// What validation found so far.
+struct ValidationReport
+{
+    int64_t checks = 0;        ///< UpdatePairs calls compared
+    int64_t pairsCompared = 0; ///< distinct pairs compared, summed over checks
+    int64_t mismatches = 0;    ///< checks (or fat-AABB comparisons) that disagreed
+    std::string firstMismatch; ///< description of the first mismatch, empty when none
+};
+
+/// Mirrors every broadphase call into a b2DynamicTree with Box2D 2.4.1's own b2BroadPhase logic, and at each
+/// UpdatePairs compares the set of pairs the quadtree reported with the set the stock logic gives: every proxy
+/// overlapping a proxy in the move buffer. It also compares MoveProxy's decision and the fat AABB bits after
+/// every create and move, and runs the quadtree's own Validate() every 64th check.
+/// Costs about as much as a second broadphase; meant for tests and debugging.
+class ShadowValidator
+{
+public:
+    /// Starts validating `core`. Proxies that already exist are copied into the shadow tree with the exact fat
+    /// AABBs the quadtree stores.
+    explicit ShadowValidator(const QuadtreeBroadPhase& core);
+
+    void OnCreate(ProxyId id, const b2AABB& aabb);
+    void OnDestroy(ProxyId id);
+    void OnMove(ProxyId id, const b2AABB& aabb, const b2Vec2& displacement, bool quadtreeMoved);
+    void OnTouch(ProxyId id);
+    void OnShiftOrigin(const b2Vec2& newOrigin);
+
+    /// Compares `reported` (the quadtree's pairs of this UpdatePairs) with the stock logic's, then clears the
+    /// shadow move buffer.
+    void OnUpdatePairs(const std::vector<Pair>& reported);
+
+    const ValidationReport& Report() const { return m_report; }
+
+    // Called back by b2DynamicTree::Query.
+    bool QueryCallback(int32 shadowId);
+
+private:
+    void Mismatch(const std::string& what);
+    void CompareFat(ProxyId id, const char* call);
+    std::string Describe(ProxyId id) const;
+
+    const QuadtreeBroadPhase& m_core;
+    b2DynamicTree m_tree;
+    std::vector<int32> m_shadowOf; // quadtree id -> shadow id, -1 when none
+    std::vector<ProxyId> m_buffer; // quadtree ids, stock b2BroadPhase move-buffer semantics
+    std::vector<Pair> m_expected;
+    std::vector<Pair> m_actual;
+    ProxyId m_queryId = -1;
+    ValidationReport m_report;
+};
+
+} // namespace quadphase

@@ -1,0 +1,223 @@
+#include "quadphase/shadow_validator.h"
+
+#include <algorithm>
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+#include <cstdint>
+
+#include "quadphase/error.h"
+
+namespace quadphase
+{
+namespace
+{
+
+// A coordinate t with fl(t - r) == target (sign -1) or fl(t + r) == target (sign +1), so that a proxy created in
+// the shadow tree from t gets exactly the fat coordinate the quadtree stores. Float subtraction is monotone, so a
+// short walk from the first guess finds it when it exists.
+bool Preimage(float target, float r, float sign, float& t)
+{
+    t = target - sign * r;
+    for (int i = 0; i < 64; ++i)
+    {
+        const float v = t + sign * r;
+        if (v == target)
+        {
+            return true;
+        }
+        t = std::nextafter(t, v < target ? INFINITY : -INFINITY);
+    }
+    return false;
+}
+
+std::string BoxText(const b2AABB& b)
+{
+    char text[160];
+    std::snprintf(text, sizeof(text), "(%.9g, %.9g)-(%.9g, %.9g)", double(b.lowerBound.x), double(b.lowerBound.y),
+                  double(b.upperBound.x), double(b.upperBound.y));
+    return text;
+}
+
+b2AABB ToAABB(const Box& b)
+{
+    b2AABB a;
+    a.lowerBound.Set(b.minX, b.minY);
+    a.upperBound.Set(b.maxX, b.maxY);
+    return a;
+}
+
+} // namespace
+
+ShadowValidator::ShadowValidator(const QuadtreeBroadPhase& core)
+    : m_core(core)
+{
+    const ProxyPool& pool = core.GetPool();
+    const float r = b2_aabbExtension;
+    for (ProxyId id = 0; id < pool.IdBound(); ++id)
+    {
+        if (!pool.IsLive(id))
+        {
+            continue;
+        }
+        const Box& fat = pool.Fat(id);
+        b2AABB tight;
+        bool exact = Preimage(fat.minX, r, -1.0f, tight.lowerBound.x);
+        exact = Preimage(fat.minY, r, -1.0f, tight.lowerBound.y) && exact;
+        exact = Preimage(fat.maxX, r, 1.0f, tight.upperBound.x) && exact;
+        exact = Preimage(fat.maxY, r, 1.0f, tight.upperBound.y) && exact;
+        if (!exact)
+        {
+            Mismatch("cannot seed the shadow tree with proxy " + Describe(id) + " exactly");
+        }
+        OnCreate(id, tight);
+    }
+    // Proxies already waiting in the quadtree's move buffer are not in the shadow's; the buffers agree again after
+    // the next UpdatePairs, so that one is not compared.
+    if (pool.BufferedCount() > 0)
+    {
+        m_report.checks = -1;
+    }
+    m_buffer.clear();
+}
+
+std::string ShadowValidator::Describe(ProxyId id) const
+{
+    if (!m_core.GetPool().IsLive(id))
+    {
+        return std::to_string(id) + " (destroyed)";
+    }
+    return std::to_string(id) + " fat AABB " + BoxText(ToAABB(m_core.GetPool().Fat(id)));
+}
+
+void ShadowValidator::Mismatch(const std::string& what)
+{
+    ++m_report.mismatches;
+    if (m_report.firstMismatch.empty())
+    {
+        m_report.firstMismatch = what;
+    }
+    ReportError(ErrorCode::ValidationMismatch, "%s", what.c_str());
+}
+
+void ShadowValidator::CompareFat(ProxyId id, const char* call)
+{
+    const b2AABB& shadow = m_tree.GetFatAABB(m_shadowOf[size_t(id)]);
+    const Box& ours = m_core.GetPool().Fat(id);
+    if (!SameBits(ours, Box{shadow.lowerBound.x, shadow.lowerBound.y, shadow.upperBound.x, shadow.upperBound.y}) &&
+        IsFinite(ours))
+    {
+        Mismatch(std::string(call) + ": proxy " + Describe(id) + " but b2DynamicTree stores " + BoxText(shadow));
+    }
+}
+
+void ShadowValidator::OnCreate(ProxyId id, const b2AABB& aabb)
+{
+    if (size_t(id) >= m_shadowOf.size())
+    {
+        m_shadowOf.resize(size_t(id) + 1, -1);
+    }
+    m_shadowOf[size_t(id)] = m_tree.CreateProxy(aabb, reinterpret_cast<void*>(intptr_t(id)));
+    m_buffer.push_back(id);
+    CompareFat(id, "CreateProxy");
+}
+
+void ShadowValidator::OnDestroy(ProxyId id)
+{
+    std::replace(m_buffer.begin(), m_buffer.end(), id, ProxyId(-1));
+    m_tree.DestroyProxy(m_shadowOf[size_t(id)]);
+    m_shadowOf[size_t(id)] = -1;
+}
+
+void ShadowValidator::OnMove(ProxyId id, const b2AABB& aabb, const b2Vec2& displacement, bool quadtreeMoved)
+{
+    const bool moved = m_tree.MoveProxy(m_shadowOf[size_t(id)], aabb, displacement);
+    if (moved)
+    {
+        m_buffer.push_back(id);
+    }
+    if (moved != quadtreeMoved)
+    {
+        Mismatch("MoveProxy: proxy " + Describe(id) + (moved ? " kept its fat AABB" : " got a new fat AABB") +
+                 " but b2DynamicTree decided otherwise for AABB " + BoxText(aabb));
+    }
+    CompareFat(id, "MoveProxy");
+}
+
+void ShadowValidator::OnTouch(ProxyId id)
+{
+    m_buffer.push_back(id);
+}
+
+void ShadowValidator::OnShiftOrigin(const b2Vec2& newOrigin)
+{
+    m_tree.ShiftOrigin(newOrigin);
+}
+
+bool ShadowValidator::QueryCallback(int32 shadowId)
+{
+    const ProxyId other = ProxyId(reinterpret_cast<intptr_t>(m_tree.GetUserData(shadowId)));
+    if (other != m_queryId)
+    {
+        m_expected.push_back(other < m_queryId ? Pair{other, m_queryId} : Pair{m_queryId, other});
+    }
+    return true;
+}
+
+void ShadowValidator::OnUpdatePairs(const std::vector<Pair>& reported)
+{
+    // Stock semantics: for every buffered proxy, every other proxy whose fat AABB overlaps its own.
+    m_expected.clear();
+    for (ProxyId q : m_buffer)
+    {
+        if (q < 0)
+        {
+            continue;
+        }
+        m_queryId = q;
+        m_tree.Query(this, m_tree.GetFatAABB(m_shadowOf[size_t(q)]));
+    }
+    m_buffer.clear();
+    std::sort(m_expected.begin(), m_expected.end());
+    m_expected.erase(std::unique(m_expected.begin(), m_expected.end()), m_expected.end());
+
+    m_actual = reported;
+    std::sort(m_actual.begin(), m_actual.end());
+    const bool duplicates = std::adjacent_find(m_actual.begin(), m_actual.end()) != m_actual.end();
+
+    if (++m_report.checks <= 0)
+    {
+        return; // the first UpdatePairs after validation started mid-run (see the constructor)
+    }
+    m_report.pairsCompared += int64_t(m_expected.size());
+    if (duplicates)
+    {
+        Mismatch("UpdatePairs: the quadtree reported a pair twice");
+    }
+    if (m_actual != m_expected)
+    {
+        // First pair in one set and not the other.
+        std::vector<Pair> missing, extra;
+        std::set_difference(m_expected.begin(), m_expected.end(), m_actual.begin(), m_actual.end(),
+                            std::back_inserter(missing));
+        std::set_difference(m_actual.begin(), m_actual.end(), m_expected.begin(), m_expected.end(),
+                            std::back_inserter(extra));
+        const bool isMissing = !missing.empty();
+        const Pair p = isMissing ? missing.front() : extra.front();
+        char head[200];
+        std::snprintf(head, sizeof(head),
+                      "UpdatePairs #%" PRId64 ": %zu pairs missing, %zu extra; first %s pair: ", m_report.checks,
+                      missing.size(), extra.size(), isMissing ? "missing" : "extra");
+        Mismatch(std::string(head) + "proxy " + Describe(p.a) + " and proxy " + Describe(p.b));
+    }
+    if (m_report.checks % 64 == 0)
+    {
+        const std::string problem = m_core.Validate();
+        if (!problem.empty())
+        {
+            Mismatch("quadtree invariant: " + problem);
+        }
+    }
+}
+
+} // namespace quadphase
