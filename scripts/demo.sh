@@ -1,9 +1,16 @@
 #!/usr/bin/env bash
-# Configure + build (Release) and run the quadphase demo: scripts/demo.sh [demo args...]
-# Environment: BUILD_DIR (default: build), JOBS (default: nproc).
+# Install dependencies (scripts/install-deps.sh), configure + build (Release) and run
+# the quadphase demo: scripts/demo.sh [demo args...]
+# Environment: BUILD_DIR (default: build), JOBS (default: nproc),
+#              QUADPHASE_SKIP_DEPS=1 (do not run scripts/install-deps.sh).
 set -euo pipefail
 
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
+
+# Dependencies first (a no-op when everything is installed).
+if [[ "${QUADPHASE_SKIP_DEPS:-0}" != 1 ]]; then
+    scripts/install-deps.sh >&2
+fi
 
 build_dir=${BUILD_DIR:-build}
 jobs=${JOBS:-$(nproc 2>/dev/null || echo 2)}
@@ -21,7 +28,12 @@ if ! cmake --build "$build_dir" -j "$jobs" --target quadphase-demo >&2; then
 fi
 
 if [[ ! -x "$demo" ]]; then
-    echo "demo: $demo does not exist after the build." >&2
-    exit 1
+    # Not at the usual place (e.g. built in examples/demo/): look for it.
+    found=$(find "$build_dir/examples" -type f -name quadphase-demo -perm -u+x 2>/dev/null | head -n 1)
+    if [[ -z "$found" ]]; then
+        echo "demo: $demo does not exist after the build." >&2
+        exit 1
+    fi
+    demo=$found
 fi
 exec "$demo" "$@"

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
-# Configure (Release), build and run all tests of quadphase.
+# Install dependencies (scripts/install-deps.sh), configure (Release), build and run
+# all tests of quadphase.
 #
 # Environment:
+#   QUADPHASE_SKIP_DEPS=1       do not run scripts/install-deps.sh
 #   BUILD_DIR                   build directory (default: build)
 #   JOBS                        parallel build/test jobs (default: nproc)
 #   QUADPHASE_BOX2D_SOURCE_DIR  unpacked Box2D 2.4.1 source (default: fetched by CMake)
@@ -10,6 +12,11 @@
 set -euo pipefail
 
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
+
+# Dependencies first (a no-op when everything is installed).
+if [[ "${QUADPHASE_SKIP_DEPS:-0}" != 1 ]]; then
+    scripts/install-deps.sh >&2
+fi
 
 build_dir=${BUILD_DIR:-build}
 jobs=${JOBS:-$(nproc 2>/dev/null || echo 2)}
