@@ -1,8 +1,17 @@
 #!/usr/bin/env bash
-# Install dependencies (scripts/install-deps.sh), configure + build (Release) and run
-# the quadphase demo: scripts/demo.sh [demo args...]
-# Environment: BUILD_DIR (default: build), JOBS (default: nproc),
-#              QUADPHASE_SKIP_DEPS=1 (do not run scripts/install-deps.sh).
+# Side-by-side demo: install dependencies (scripts/install-deps.sh), configure + build (Release) the demo and
+# its two worker programs, then run build/examples/demo/quadphase-demo with the given arguments.
+#
+#   scripts/demo.sh                                  # rain, 16000 bodies, 300 steps
+#   scripts/demo.sh --scene particles --size 20000 --repeat 3
+#   scripts/demo.sh --help                           # all options and scenes
+#
+# Environment:
+#   QUADPHASE_SKIP_DEPS=1       do not run scripts/install-deps.sh
+#   BUILD_DIR                   build directory (default: build)
+#   JOBS                        parallel build jobs (default: nproc)
+#   QUADPHASE_BOX2D_SOURCE_DIR  unpacked Box2D 2.4.1 source (default: fetched by CMake)
+#   QUADPHASE_BOX2D_TARBALL     local box2d_2.4.1.orig.tar.gz (default: fetched by CMake)
 set -euo pipefail
 
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -14,26 +23,36 @@ fi
 
 build_dir=${BUILD_DIR:-build}
 jobs=${JOBS:-$(nproc 2>/dev/null || echo 2)}
-demo="$build_dir/examples/quadphase-demo"
 
-if [[ ! -f examples/CMakeLists.txt ]]; then
-    echo "demo: examples/CMakeLists.txt does not exist yet, so there is no quadphase-demo to run." >&2
+configure_args=(-S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DQUADPHASE_BUILD_EXAMPLES=ON)
+if [[ -n "${QUADPHASE_BOX2D_SOURCE_DIR:-}" ]]; then
+    configure_args+=("-DQUADPHASE_BOX2D_SOURCE_DIR=$QUADPHASE_BOX2D_SOURCE_DIR")
+fi
+if [[ -n "${QUADPHASE_BOX2D_TARBALL:-}" ]]; then
+    configure_args+=("-DQUADPHASE_BOX2D_TARBALL=$QUADPHASE_BOX2D_TARBALL")
+fi
+
+# Configure (cheap when already configured; keeps the build Release with the examples on).
+if ! cmake "${configure_args[@]}" >&2; then
+    echo "demo: configuring $build_dir failed (see above)." >&2
+    exit 1
+fi
+if ! cmake --build "$build_dir" -j "$jobs" \
+        --target quadphase-demo-stock quadphase-demo-quadtree quadphase-demo >&2; then
+    echo "demo: building quadphase-demo and its worker programs failed (see above)." >&2
     exit 1
 fi
 
-cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DQUADPHASE_BUILD_EXAMPLES=ON >&2
-if ! cmake --build "$build_dir" -j "$jobs" --target quadphase-demo >&2; then
-    echo "demo: building the quadphase-demo target failed (see above)." >&2
-    exit 1
-fi
-
-if [[ ! -x "$demo" ]]; then
-    # Not at the usual place (e.g. built in examples/demo/): look for it.
-    found=$(find "$build_dir/examples" -type f -name quadphase-demo -perm -u+x 2>/dev/null | head -n 1)
-    if [[ -z "$found" ]]; then
-        echo "demo: $demo does not exist after the build." >&2
-        exit 1
+# Single-config generators put it in examples/demo/; multi-config ones in examples/demo/Release/.
+demo=""
+for candidate in "$build_dir/examples/demo/quadphase-demo" "$build_dir/examples/demo/Release/quadphase-demo"; do
+    if [[ -x "$candidate" ]]; then
+        demo=$candidate
+        break
     fi
-    demo=$found
+done
+if [[ -z "$demo" ]]; then
+    echo "demo: quadphase-demo not found under $build_dir/examples/demo after the build." >&2
+    exit 1
 fi
 exec "$demo" "$@"

@@ -1,0 +1,188 @@
+// Scenes are deterministic functions of (size, seed); the registry and the random mapping behave.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cstring>
+#include <stdexcept>
+#include <vector>
+
+#include "quadphase_scenes/scenes.h"
+
+namespace
+{
+
+using quadphase::scenes::Scene;
+using quadphase::scenes::SceneId;
+using quadphase::scenes::SceneInfo;
+
+/// A small size of each scene for quick tests.
+int SmallSize(const SceneInfo& info)
+{
+    switch (info.id)
+    {
+    case SceneId::Pyramid:
+        return 12;
+    case SceneId::Rain:
+        return 500;
+    case SceneId::Tumbler:
+        return 200;
+    case SceneId::Tiles:
+        return 400;
+    case SceneId::Particles:
+        return 500;
+    case SceneId::Bullets:
+        return 120;
+    case SceneId::Sparse:
+        return 300;
+    }
+    return info.minSize;
+}
+
+/// Every body's position, angle and velocities, as raw bit patterns (body-list order).
+std::vector<uint32_t> BodyBits(const b2World& world)
+{
+    std::vector<uint32_t> bits;
+    auto push = [&bits](float value)
+    {
+        uint32_t word;
+        std::memcpy(&word, &value, sizeof word);
+        bits.push_back(word);
+    };
+    for (const b2Body* body = world.GetBodyList(); body != nullptr; body = body->GetNext())
+    {
+        push(body->GetPosition().x);
+        push(body->GetPosition().y);
+        push(body->GetAngle());
+        push(body->GetLinearVelocity().x);
+        push(body->GetLinearVelocity().y);
+        push(body->GetAngularVelocity());
+    }
+    return bits;
+}
+
+std::vector<uint32_t> Run(SceneId id, int size, uint32_t seed, int steps)
+{
+    Scene scene = quadphase::scenes::BuildScene(id, size, seed);
+    for (int i = 0; i < steps; ++i)
+    {
+        quadphase::scenes::StepScene(scene);
+    }
+    REQUIRE(scene.stepCount == steps);
+    return BodyBits(*scene.world);
+}
+
+} // namespace
+
+TEST_CASE("each scene is deterministic: same size and seed, same bits after 60 steps",
+          "[scenes][determinism]")
+{
+    for (const SceneInfo& info : quadphase::scenes::AllScenes())
+    {
+        const int size = SmallSize(info);
+        INFO("scene " << info.name << " size " << size);
+        const std::vector<uint32_t> first = Run(info.id, size, 42, 60);
+        const std::vector<uint32_t> second = Run(info.id, size, 42, 60);
+        REQUIRE(!first.empty());
+        CHECK(first == second);
+    }
+}
+
+TEST_CASE("randomised scenes depend on the seed", "[scenes][determinism]")
+{
+    for (SceneId id : {SceneId::Rain, SceneId::Particles, SceneId::Bullets, SceneId::Sparse})
+    {
+        const SceneInfo& info = quadphase::scenes::GetSceneInfo(id);
+        INFO("scene " << info.name);
+        const int steps = id == SceneId::Bullets ? 30 : 1;
+        CHECK(Run(id, SmallSize(info), 1, steps) != Run(id, SmallSize(info), 2, steps));
+    }
+}
+
+TEST_CASE("scene sizes and body counts", "[scenes]")
+{
+    using quadphase::scenes::BuildScene;
+    using quadphase::scenes::CountBodies;
+    using quadphase::scenes::CountFixtures;
+
+    // pyramid: ground + base (base + 1) / 2 boxes
+    CHECK(CountBodies(*BuildScene(SceneId::Pyramid, 20, 0).world) == 1 + 210);
+    // tiles: default 200 x 20 tiles on one static body + a 20-box-base pyramid
+    {
+        Scene tiles = BuildScene(SceneId::Tiles, 4000, 0);
+        CHECK(CountBodies(*tiles.world) == 1 + 210);
+        CHECK(CountFixtures(*tiles.world) == 4000 + 210);
+    }
+    // rain: container + N bodies
+    CHECK(CountBodies(*BuildScene(SceneId::Rain, 1000, 3).world) == 1 + 1000);
+    // particles: walls + N circles
+    CHECK(CountBodies(*BuildScene(SceneId::Particles, 1000, 3).world) == 1 + 1000);
+    // sparse: walls + N moving bodies + N / 10 rocks
+    CHECK(CountBodies(*BuildScene(SceneId::Sparse, 1000, 3).world) == 1 + 1000 + 100);
+    // tumbler: boxes are spawned over the first 200 steps
+    {
+        Scene tumbler = BuildScene(SceneId::Tumbler, 800, 0);
+        CHECK(CountBodies(*tumbler.world) == 2);
+        for (int i = 0; i < 200; ++i)
+        {
+            quadphase::scenes::StepScene(tumbler);
+        }
+        CHECK(CountBodies(*tumbler.world) == 2 + 800);
+        quadphase::scenes::StepScene(tumbler);
+        CHECK(CountBodies(*tumbler.world) == 2 + 800);
+    }
+    // bullets: arena + pyramid of 136; every bullet fired once in the first 120 steps
+    {
+        Scene bullets = BuildScene(SceneId::Bullets, 240, 0);
+        CHECK(CountBodies(*bullets.world) == 1 + 136);
+        for (int i = 0; i < 120; ++i)
+        {
+            quadphase::scenes::StepScene(bullets);
+        }
+        CHECK(CountBodies(*bullets.world) == 1 + 136 + 240);
+    }
+}
+
+TEST_CASE("scene registry: names, parsing and size checks", "[scenes]")
+{
+    const auto& scenes = quadphase::scenes::AllScenes();
+    REQUIRE(scenes.size() == 7);
+    for (const SceneInfo& info : scenes)
+    {
+        INFO("scene " << info.name);
+        CHECK(quadphase::scenes::ParseSceneName(info.name) == info.id);
+        CHECK(std::string(quadphase::scenes::SceneName(info.id)) == info.name);
+        CHECK(info.minSize <= info.defaultSize);
+        CHECK(info.defaultSize <= info.maxSize);
+        CHECK_THROWS_AS(quadphase::scenes::BuildScene(info.id, info.minSize - 1, 0), std::invalid_argument);
+        CHECK_THROWS_AS(quadphase::scenes::BuildScene(info.id, info.maxSize + 1, 0), std::invalid_argument);
+    }
+    CHECK(quadphase::scenes::ParseSceneName("RAIN") == SceneId::Rain);
+    CHECK_FALSE(quadphase::scenes::ParseSceneName("drizzle").has_value());
+    CHECK_FALSE(quadphase::scenes::ParseSceneName("").has_value());
+    CHECK(quadphase::scenes::SceneNameList() == "pyramid, rain, tumbler, tiles, particles, bullets, sparse");
+}
+
+TEST_CASE("Rng: standard mt19937 stream with portable mappings", "[scenes]")
+{
+    quadphase::scenes::Rng rng(5489u);   // std::mt19937's default seed
+    CHECK(rng.NextU32() == 3499211612u); // first output, fixed by the C++ standard's definition of mt19937
+    quadphase::scenes::Rng a(5489u);
+    CHECK(a.Uniform01() == static_cast<float>(3499211612u >> 8) / 16777216.0f);
+
+    quadphase::scenes::Rng r(123u);
+    for (int i = 0; i < 10000; ++i)
+    {
+        const float u = r.Uniform01();
+        REQUIRE(u >= 0.0f);
+        REQUIRE(u < 1.0f);
+        const float v = r.Uniform(-2.0f, 3.0f);
+        REQUIRE(v >= -2.0f);
+        REQUIRE(v < 3.0f);
+        REQUIRE(r.Index(7) < 7u);
+    }
+    std::vector<int32_t> values = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9};
+    r.Shuffle(values);
+    std::vector<int32_t> sorted = values;
+    std::sort(sorted.begin(), sorted.end());
+    CHECK(sorted == std::vector<int32_t>{0, 1, 2, 3, 4, 5, 6, 7, 8, 9});
+}
