@@ -95,13 +95,15 @@ bool QuadtreeBroadPhase::MoveProxy(ProxyId id, const Box& tight, Vec2 displaceme
     {
         return false;
     }
+    // Checked before Refatten: a bad box may lie inside the stored fat box, which is then kept, and must be
+    // reported all the same.
+    CheckBox(tight, "MoveProxy", id);
     const Clock::time_point start = m_timing ? Clock::now() : Clock::time_point{};
     Box& fat = m_pool.Fat(id);
     if (!Refatten(m_policy, fat, tight, displacement))
     {
         return false;
     }
-    CheckBox(tight, "MoveProxy", id);
     m_counters.reinserts += m_pyramid.Update(id, fat) ? 1 : 0;
     m_pool.Buffer(id);
     if (m_timing)
@@ -236,7 +238,9 @@ bool QuadtreeBroadPhase::NeedsRetune() const
     {
         return true;
     }
-    return m_config.autoBounds && n > 32 && m_pyramid.OutsideCount() > n / 4;
+    // Counted from the last tuning: when retuning cannot bring proxies inside (boxes larger than the region the
+    // centres span), the same retune would otherwise run again on every FindPairs.
+    return m_config.autoBounds && n > 32 && m_pyramid.OutsideCount() - m_tunedOutside > n / 4;
 }
 
 // The automatic rule (docs/design.md, "Automatic depth and bounds"):
@@ -312,13 +316,17 @@ void QuadtreeBroadPhase::Retune()
     else
     {
         const float target = m_config.cellToProxyRatio * medianExtent;
-        depth = int(std::ceil(std::log2(double(side) / double(target))));
+        // Clamped before the conversion: a ratio <= 0 gives +inf (finest allowed) or NaN (0), and converting
+        // either to int is undefined.
+        const double want = std::ceil(std::log2(double(side) / double(target)));
+        depth = want > 0.0 ? (want < double(kMaxDepth) ? int(want) : kMaxDepth) : 0;
         // 4^depth <= 2n  <=>  depth <= log2(2n) / 2
         const int memoryCap = int(std::floor(std::log2(2.0 * std::max(n, 1)) / 2.0));
         depth = std::max(0, std::min({depth, memoryCap, std::min(m_config.maxDepth, kMaxDepth)}));
     }
     m_tunedCount = n;
     Rebuild(originX, originY, side, depth);
+    m_tunedOutside = m_pyramid.OutsideCount();
 }
 
 void QuadtreeBroadPhase::Rebuild(float originX, float originY, float side, int depth)
@@ -390,7 +398,10 @@ std::string QuadtreeBroadPhase::Validate() const
         }
         bool found = false;
         const Box& fat = m_pool.Fat(id);
-        m_pyramid.Visit(fat, [&](const Entry& e) {
+        // An inverted box (bad input, reported) is stored in the cell of its min corner, but a query of the box
+        // itself may cover no cell at all: query that corner instead. The same holds for boxes holding NaN.
+        const Box probe = IsOrdered(fat) ? fat : Box{fat.minX, fat.minY, fat.minX, fat.minY};
+        m_pyramid.Visit(probe, [&](const Entry& e) {
             if (e.id == id)
             {
                 found = SameBits(e.box, fat) || !IsFinite(fat);

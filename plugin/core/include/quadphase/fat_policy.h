@@ -34,11 +34,12 @@ inline bool Refatten(const FatPolicy& policy, Box& stored, const Box& tight, Vec
     const float dx = policy.multiplier * displacement.x;
     const float dy = policy.multiplier * displacement.y;
     // Written as selects, not branches: the direction of motion is random per body, and a mispredicted branch
-    // costs more than both additions. The results are the same floats as Box2D's if/else.
-    fat.minX += dx < 0.0f ? dx : 0.0f;
-    fat.maxX += dx < 0.0f ? 0.0f : dx;
-    fat.minY += dy < 0.0f ? dy : 0.0f;
-    fat.maxY += dy < 0.0f ? 0.0f : dy;
+    // costs more than both additions. The results are the same floats as Box2D's if/else. The side that does not
+    // move is selected unchanged rather than given "+ 0.0f", which would turn a -0.0f into +0.0f.
+    fat.minX = dx < 0.0f ? fat.minX + dx : fat.minX;
+    fat.maxX = dx < 0.0f ? fat.maxX : fat.maxX + dx;
+    fat.minY = dy < 0.0f ? fat.minY + dy : fat.minY;
+    fat.maxY = dy < 0.0f ? fat.maxY : fat.maxY + dy;
 
     if (Contains(stored, tight))
     {

@@ -23,7 +23,7 @@ namespace quadphase
 ///   all proxies or all cells. Box2D calls it once per step and again after every time-of-impact event.
 /// - The pyramid is rebuilt (O(proxies)) when the automatic rule re-tunes depth and bounds: when the proxy
 ///   count has doubled or fallen to a quarter since the last tuning, or when more than a quarter of the proxies
-///   lie outside the bounds; and on ShiftOrigin and Configure. See docs/design.md.
+///   have moved outside the bounds since the last tuning; and on ShiftOrigin and Configure. See docs/design.md.
 ///
 /// Determinism: the same sequence of calls gives the same ids, the same pairs and the same pair order.
 /// Threading: no call may overlap another, except const calls with each other.
@@ -82,6 +82,7 @@ private:
     Pyramid m_pyramid;
     std::vector<ProxyId> m_work; // proxies whose pairs the current FindPairs searches
     int32_t m_tunedCount = 0;    // live proxies at the last automatic tuning
+    int32_t m_tunedOutside = 0;  // proxies outside the bounds right after the last automatic tuning
     bool m_timing = false;
     mutable Stats m_counters;    // work counters only; shape fields are filled by GetStats
 };

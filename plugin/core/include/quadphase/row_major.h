@@ -26,7 +26,8 @@ constexpr int32_t LevelSide(int level)
 /// Index of the first cell of `level` in the array that holds all levels: (4^level - 1) / 3.
 constexpr int32_t LevelOffset(int level)
 {
-    return (((int32_t(1) << (2 * level)) - 1) / 3);
+    // In 64 bits: PyramidCellCount(15) needs LevelOffset(16), whose 4^16 overflows 32 bits (the result fits).
+    return int32_t(((int64_t(1) << (2 * level)) - 1) / 3);
 }
 
 /// Total number of cells of a pyramid with levels 0..depth.
