@@ -575,7 +575,7 @@ int Run(const Options& options)
                 quadtreeHash.substr(0, 12).c_str(), stockHash == quadtreeHash ? "same" : "differ");
 
     const RunResult& q = quadtreeRuns.back();
-    std::printf("\nquadtree broadphase (medians over the measured steps):\n");
+    std::printf("\nquadtree broadphase (state at the end of the run; counters cover the measured steps):\n");
     std::printf("  depth %s (leaf cells %s m), %s proxies (%s outside the bounds), %s occupied cells, "
                 "largest cell %s\n",
                 Format(MedianOf(quadtreeRuns, "qt_depth"), 0).c_str(),
