@@ -6,6 +6,8 @@
 
 #include "quadphase/error.h"
 
+#include <omp.h>
+
 namespace quadphase
 {
 namespace
@@ -165,9 +167,18 @@ void QuadtreeBroadPhase::FindPairs(std::vector<Pair>& out)
     }
     m_pool.TakeBuffer(m_work);
     const size_t before = out.size();
-    for (ProxyId q : m_work)
+    const int threads = m_config.threads > 0 ? m_config.threads : omp_get_max_threads();
+    if (threads > 1 && int64_t(m_work.size()) >= int64_t(m_config.parallelThreshold))
     {
-        QueryPairsOf(q, out);
+        FindPairsParallel(out, threads);
+        m_counters.parallelCalls += 1;
+    }
+    else
+    {
+        for (ProxyId q : m_work)
+        {
+            QueryPairsOf(q, out);
+        }
     }
     m_pool.ReleaseWork(m_work);
 
@@ -177,6 +188,52 @@ void QuadtreeBroadPhase::FindPairs(std::vector<Pair>& out)
     m_counters.lastPairs = found;
     m_counters.proxiesQueried += int64_t(m_work.size());
     m_counters.pairSeconds += SecondsSince(start);
+}
+
+// The buffered proxies are cut into fixed blocks of kBlock queries, whatever the thread count. Each block writes
+// only its own vector, with no lock; the vectors are then joined in block order. The output is therefore the
+// serial loop's output, pair for pair and in the same order, at any thread count and under any schedule. During
+// the parallel loop the pyramid and the pool are only read.
+void QuadtreeBroadPhase::FindPairsParallel(std::vector<Pair>& out, int threads)
+{
+    constexpr int64_t kBlock = 64;
+    const int64_t count = int64_t(m_work.size());
+    const int64_t blocks = (count + kBlock - 1) / kBlock;
+    if (int64_t(m_blockPairs.size()) < blocks)
+    {
+        m_blockPairs.resize(size_t(blocks));
+    }
+
+    omp_sched_t previousKind;
+    int previousChunk;
+    omp_get_schedule(&previousKind, &previousChunk);
+    static constexpr omp_sched_t kKinds[] = {omp_sched_static, omp_sched_dynamic, omp_sched_guided, omp_sched_auto};
+    omp_set_schedule(kKinds[int(m_config.schedule)], m_config.chunk);
+
+#pragma omp parallel for schedule(runtime) num_threads(threads)
+    for (int64_t b = 0; b < blocks; ++b)
+    {
+        std::vector<Pair>& pairs = m_blockPairs[size_t(b)];
+        pairs.clear();
+        const int64_t end = std::min(count, (b + 1) * kBlock);
+        for (int64_t i = b * kBlock; i < end; ++i)
+        {
+            QueryPairsOf(m_work[size_t(i)], pairs);
+        }
+    }
+
+    omp_set_schedule(previousKind, previousChunk); // the schedule ICV belongs to the caller's thread
+    size_t total = out.size();
+    for (int64_t b = 0; b < blocks; ++b)
+    {
+        total += m_blockPairs[size_t(b)].size();
+    }
+    out.reserve(total);
+    for (int64_t b = 0; b < blocks; ++b)
+    {
+        const std::vector<Pair>& pairs = m_blockPairs[size_t(b)];
+        out.insert(out.end(), pairs.begin(), pairs.end());
+    }
 }
 
 void QuadtreeBroadPhase::Query(const Box& box, QueryFn fn, void* context) const
@@ -356,7 +413,12 @@ Stats QuadtreeBroadPhase::GetStats() const
     {
         s.proxiesPerLevel[size_t(level)] = m_pyramid.LevelCount(level);
     }
-    s.memoryBytes = m_pool.MemoryBytes() + m_pyramid.MemoryBytes() + int64_t(m_work.capacity() * sizeof(ProxyId));
+    s.memoryBytes = m_pool.MemoryBytes() + m_pyramid.MemoryBytes() + int64_t(m_work.capacity() * sizeof(ProxyId)) +
+                    int64_t(m_blockPairs.capacity() * sizeof(std::vector<Pair>));
+    for (const std::vector<Pair>& pairs : m_blockPairs)
+    {
+        s.memoryBytes += int64_t(pairs.capacity() * sizeof(Pair));
+    }
     return s;
 }
 

@@ -6,6 +6,15 @@
 namespace quadphase
 {
 
+/// OpenMP loop schedules for pair generation (the paper compared the first three).
+enum class Schedule
+{
+    Static,
+    Dynamic,
+    Guided,
+    Auto,
+};
+
 /// Settings of a quadtree broadphase. The defaults choose everything from the proxies.
 struct Config
 {
@@ -24,6 +33,20 @@ struct Config
     /// Target ratio of the finest cell's side to the median fat-box extent, used by the automatic depth.
     /// Measured on this machine: 2-3 perform alike, 1.5 is worse.
     float cellToProxyRatio = 2.0f;
+
+    /// Threads for pair generation; 0 follows OpenMP's own setting (OMP_NUM_THREADS, else the core count).
+    /// The pairs and their order do not depend on it.
+    int threads = 0;
+
+    /// OpenMP schedule of the loop over blocks of buffered proxies, and its chunk size in blocks (0: OpenMP's
+    /// default for that schedule). The pairs and their order do not depend on them.
+    Schedule schedule = Schedule::Static;
+    int chunk = 0;
+
+    /// FindPairs with fewer buffered proxies than this runs serially, with no parallel region at all: a parallel
+    /// region costs a few microseconds, more than the queries of a small scene or of a time-of-impact update.
+    /// Chosen from bench/ measurements; see docs/design.md, "Parallel pair generation".
+    int parallelThreshold = 512;
 };
 
 /// Deepest pyramid allowed: 4^12 leaf cells already cost hundreds of MB.

@@ -75,12 +75,14 @@ private:
     void Rebuild(float originX, float originY, float side, int depth);
     bool NeedsRetune() const;
     void QueryPairsOf(ProxyId q, std::vector<Pair>& out) const;
+    void FindPairsParallel(std::vector<Pair>& out, int threads);
 
     FatPolicy m_policy;
     Config m_config;
     ProxyPool m_pool;
     Pyramid m_pyramid;
     std::vector<ProxyId> m_work; // proxies whose pairs the current FindPairs searches
+    std::vector<std::vector<Pair>> m_blockPairs; // parallel FindPairs: the pairs of each block of m_work
     int32_t m_tunedCount = 0;    // live proxies at the last automatic tuning
     int32_t m_tunedOutside = 0;  // proxies outside the bounds right after the last automatic tuning
     bool m_timing = false;
