@@ -55,6 +55,10 @@ void b2BroadPhase::SetValidation(bool enabled)
 int32 b2BroadPhase::CreateProxy(const b2AABB& aabb, void* userData)
 {
     const int32 proxyId = m_core.CreateProxy(quadphase::detail::ToBox(aabb), userData);
+    if (m_trace != nullptr)
+    {
+        m_trace->Add({quadphase::TraceOp::Create, proxyId, quadphase::detail::ToBox(aabb), {}});
+    }
     if (m_shadow != nullptr)
     {
         m_shadow->OnCreate(proxyId, aabb);
@@ -64,6 +68,10 @@ int32 b2BroadPhase::CreateProxy(const b2AABB& aabb, void* userData)
 
 void b2BroadPhase::DestroyProxy(int32 proxyId)
 {
+    if (m_trace != nullptr)
+    {
+        m_trace->Add({quadphase::TraceOp::Destroy, proxyId, {}, {}});
+    }
     if (m_shadow != nullptr && m_core.GetPool().IsLive(proxyId))
     {
         m_shadow->OnDestroy(proxyId);
@@ -73,6 +81,10 @@ void b2BroadPhase::DestroyProxy(int32 proxyId)
 
 void b2BroadPhase::MoveProxy(int32 proxyId, const b2AABB& aabb, const b2Vec2& displacement)
 {
+    if (m_trace != nullptr)
+    {
+        m_trace->Add({quadphase::TraceOp::Move, proxyId, quadphase::detail::ToBox(aabb), {displacement.x, displacement.y}});
+    }
     const bool moved = m_core.MoveProxy(proxyId, quadphase::detail::ToBox(aabb), {displacement.x, displacement.y});
     if (m_shadow != nullptr && m_core.GetPool().IsLive(proxyId))
     {
@@ -82,6 +94,10 @@ void b2BroadPhase::MoveProxy(int32 proxyId, const b2AABB& aabb, const b2Vec2& di
 
 void b2BroadPhase::TouchProxy(int32 proxyId)
 {
+    if (m_trace != nullptr)
+    {
+        m_trace->Add({quadphase::TraceOp::Touch, proxyId, {}, {}});
+    }
     m_core.TouchProxy(proxyId);
     if (m_shadow != nullptr && m_core.GetPool().IsLive(proxyId))
     {
@@ -117,6 +133,10 @@ float b2BroadPhase::GetTreeQuality() const
 
 void b2BroadPhase::ShiftOrigin(const b2Vec2& newOrigin)
 {
+    if (m_trace != nullptr)
+    {
+        m_trace->Add({quadphase::TraceOp::ShiftOrigin, -1, {}, {newOrigin.x, newOrigin.y}});
+    }
     m_core.ShiftOrigin({newOrigin.x, newOrigin.y});
     if (m_shadow != nullptr)
     {

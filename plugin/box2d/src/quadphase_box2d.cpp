@@ -56,6 +56,11 @@ ValidationReport GetValidationReport(const b2World& world)
     return validator != nullptr ? validator->Report() : ValidationReport{};
 }
 
+void SetTrace(b2World& world, Trace* trace)
+{
+    BroadPhaseOf(world).SetTrace(trace);
+}
+
 const QuadtreeBroadPhase& GetQuadtree(const b2World& world)
 {
     return BroadPhaseOf(world).GetQuadtree();

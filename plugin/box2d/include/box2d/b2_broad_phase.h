@@ -12,6 +12,7 @@
 #include "b2_settings.h"
 
 #include "quadphase/quadtree_broad_phase.h"
+#include "quadphase/trace.h"
 
 namespace quadphase
 {
@@ -121,12 +122,16 @@ public:
     bool IsValidating() const { return m_shadow != nullptr; }
     const quadphase::ShadowValidator* GetValidator() const { return m_shadow; }
 
+    /// Records every later call into `trace` (nullptr stops). The trace must outlive the recording.
+    void SetTrace(quadphase::Trace* trace) { m_trace = trace; }
+
 private:
     void CheckPairs();
 
     quadphase::QuadtreeBroadPhase m_core;
     std::vector<quadphase::Pair> m_pairs;
     quadphase::ShadowValidator* m_shadow = nullptr;
+    quadphase::Trace* m_trace = nullptr;
 };
 
 namespace quadphase
@@ -182,6 +187,10 @@ inline int32 b2BroadPhase::GetProxyCount() const
 template <typename T>
 void b2BroadPhase::UpdatePairs(T* callback)
 {
+    if (m_trace != nullptr)
+    {
+        m_trace->Add({quadphase::TraceOp::UpdatePairs, -1, {}, {}});
+    }
     m_pairs.clear();
     m_core.FindPairs(m_pairs);
     if (m_shadow != nullptr)

@@ -6,6 +6,7 @@
 #include "quadphase/config.h"
 #include "quadphase/shadow_validator.h"
 #include "quadphase/stats.h"
+#include "quadphase/trace.h"
 
 namespace quadphase
 {
@@ -31,6 +32,9 @@ void SetValidation(b2World& world, bool enabled);
 
 /// What validation found; all zero when it is off.
 ValidationReport GetValidationReport(const b2World& world);
+
+/// Records every later broadphase call of the world into `trace` (nullptr stops); see quadphase/trace.h.
+void SetTrace(b2World& world, Trace* trace);
 
 /// The world's quadtree, for drawing and inspection. Valid while the world lives.
 const QuadtreeBroadPhase& GetQuadtree(const b2World& world);

@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Race checker for the OpenMP-parallel code: builds the parallel tests with clang-14, LLVM's libomp and
+# ThreadSanitizer, whose OpenMP support (archer, shipped with libomp-14-dev) the runtime loads by itself, and runs
+# them. GCC's ThreadSanitizer is not used: it reports false races inside libgomp, which is not instrumented.
+#
+# Exit status: non-zero when ThreadSanitizer reports a race or a test fails.
+# Environment: BUILD_DIR (default build-tsan), JOBS (default nproc), QUADPHASE_SKIP_DEPS=1,
+#              QUADPHASE_BOX2D_SOURCE_DIR / QUADPHASE_BOX2D_TARBALL as for scripts/test.sh.
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+
+if [[ "${QUADPHASE_SKIP_DEPS:-0}" != 1 ]]; then
+    scripts/install-deps.sh >&2
+fi
+
+build_dir=${BUILD_DIR:-build-tsan}
+jobs=${JOBS:-$(nproc 2>/dev/null || echo 2)}
+llvm_lib=/usr/lib/llvm-14/lib
+
+configure_args=(-S . -B "$build_dir"
+    -DCMAKE_BUILD_TYPE=RelWithDebInfo
+    -DCMAKE_CXX_COMPILER=clang++-14
+    "-DCMAKE_CXX_FLAGS=-fsanitize=thread -fno-omit-frame-pointer"
+    "-DCMAKE_EXE_LINKER_FLAGS=-fsanitize=thread -Wl,-rpath,$llvm_lib"
+    -DQUADPHASE_BUILD_BENCH=OFF -DQUADPHASE_INSTALL=OFF)
+[[ -n "${QUADPHASE_BOX2D_SOURCE_DIR:-}" ]] && configure_args+=("-DQUADPHASE_BOX2D_SOURCE_DIR=$QUADPHASE_BOX2D_SOURCE_DIR")
+[[ -n "${QUADPHASE_BOX2D_TARBALL:-}" ]] && configure_args+=("-DQUADPHASE_BOX2D_TARBALL=$QUADPHASE_BOX2D_TARBALL")
+
+set -x
+cmake "${configure_args[@]}"
+cmake --build "$build_dir" -j "$jobs" --target quadphase_core_tests quadphase_parallel_tests
+
+# ignore_noninstrumented_modules: libomp itself is not instrumented; archer tells TSan about its synchronisation.
+export TSAN_OPTIONS="ignore_noninstrumented_modules=1 halt_on_error=1 exitcode=66"
+export LD_LIBRARY_PATH="$llvm_lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}" # where libomp looks for libarcher.so
+export ARCHER_OPTIONS="verbose=1"                                        # prints that archer is loaded
+export OMP_NUM_THREADS=2
+
+"$build_dir/tests/core/quadphase_core_tests" "[parallel]"
+QUADPHASE_DETERMINISM_STEPS=120 "$build_dir/tests/parallel/quadphase_parallel_tests"
+set +x
+echo "race-check: ThreadSanitizer found no race"
