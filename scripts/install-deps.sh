@@ -10,6 +10,9 @@ packages=(
     make
     catch2                  # Catch2 2.x (find_package(Catch2 2))
     libomp-dev              # LLVM OpenMP, for clang builds (gcc uses libgomp)
+    clang-14                # race checker (scripts/race-check.sh) and sanitizer builds
+    libomp-14-dev           # libomp and archer (OpenMP support of ThreadSanitizer) for clang-14
+    libclang-rt-14-dev      # clang-14's sanitizer runtimes
     ca-certificates
     python3
     xz-utils
