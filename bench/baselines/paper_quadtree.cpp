@@ -1,0 +1,538 @@
+#include "paper_quadtree.h"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <string>
+
+#include "quadphase/error.h"
+#include "quadphase/row_major.h"
+
+namespace quadphase
+{
+namespace bench
+{
+namespace
+{
+const Box kEmptyBox{0.0f, 0.0f, 0.0f, 0.0f};
+
+Box CheckedBounds(const Box& bounds)
+{
+    if (!IsFinite(bounds))
+    {
+        ReportError(ErrorCode::NonFiniteBox, "PaperQuadtreeBroadPhase: non-finite bounds (%g, %g, %g, %g)",
+                    double(bounds.minX), double(bounds.minY), double(bounds.maxX), double(bounds.maxY));
+        return Config{}.bounds;
+    }
+    if (!(bounds.minX < bounds.maxX && bounds.minY < bounds.maxY))
+    {
+        ReportError(ErrorCode::InvertedBox, "PaperQuadtreeBroadPhase: empty or inverted bounds (%g, %g, %g, %g)",
+                    double(bounds.minX), double(bounds.minY), double(bounds.maxX), double(bounds.maxY));
+        return Config{}.bounds;
+    }
+    return bounds;
+}
+
+omp_sched_t OmpKind(Schedule schedule)
+{
+    switch (schedule)
+    {
+    case Schedule::Static: return omp_sched_static;
+    case Schedule::Dynamic: return omp_sched_dynamic;
+    case Schedule::Guided: return omp_sched_guided;
+    case Schedule::Auto: return omp_sched_auto;
+    }
+    return omp_sched_static;
+}
+
+Pair Ordered(ProxyId a, ProxyId b)
+{
+    return a < b ? Pair{a, b} : Pair{b, a};
+}
+} // namespace
+
+struct PaperQuadtreeBroadPhase::Locks
+{
+    std::vector<omp_lock_t> leaf; // one per leaf, row-major: the paper's Box::writelock
+    omp_lock_t pairs;             // the paper's single global lock on the shared pair vector
+
+    explicit Locks(size_t leafCount)
+        : leaf(leafCount)
+    {
+        for (omp_lock_t& l : leaf)
+        {
+            omp_init_lock(&l);
+        }
+        omp_init_lock(&pairs);
+    }
+    ~Locks()
+    {
+        for (omp_lock_t& l : leaf)
+        {
+            omp_destroy_lock(&l);
+        }
+        omp_destroy_lock(&pairs);
+    }
+    Locks(const Locks&) = delete;
+    Locks& operator=(const Locks&) = delete;
+};
+
+PaperQuadtreeBroadPhase::PaperQuadtreeBroadPhase(int levels, const Box& bounds, int threads, Schedule schedule,
+                                                 PaperPairReport report, const FatPolicy& policy)
+    : m_policy(policy)
+    , m_report(report)
+    , m_levels(std::clamp(levels, kMinLevels, kMaxLevels))
+    , m_leafSide(int32_t(1) << (m_levels - 1))
+    , m_bounds(CheckedBounds(bounds))
+    , m_threads(threads < 0 ? 0 : threads)
+    , m_schedule(schedule)
+{
+    BuildTree();
+    m_locks = std::make_unique<Locks>(m_leaves.size());
+}
+
+PaperQuadtreeBroadPhase::~PaperQuadtreeBroadPhase() = default;
+
+// ---------------------------------------------------------------------------------------------------------------
+// The tree: built once (again only on ShiftOrigin), never restructured.
+
+void PaperQuadtreeBroadPhase::BuildTree()
+{
+    m_nodes.clear();
+    m_leaves.clear();
+    // (4^levels - 1) / 3 nodes; reserved so that no push_back moves the nodes during Generate.
+    m_nodes.reserve(size_t(((int64_t(1) << (2 * m_levels)) - 1) / 3));
+    m_nodes.push_back(Node{m_bounds, {}, {}, -1, -1});
+    std::vector<int32_t> creationOrder;
+    creationOrder.reserve(size_t(m_leafSide) * size_t(m_leafSide));
+    Generate(0, m_levels, creationOrder);
+    Linearize(creationOrder);
+}
+
+// Depth first, four children at a time in the paper's quadrant order TL, TR, BL, BR. The paper's screen y grows
+// downward, so its "top" row is the one nearest y = 0; here that is the row nearest bounds.minY: child 0 is
+// (low x, low y), 1 (high x, low y), 2 (low x, high y), 3 (high x, high y). Leaves are recorded as they are created.
+void PaperQuadtreeBroadPhase::Generate(int32_t node, int remainingLevels, std::vector<int32_t>& creationOrder)
+{
+    if (remainingLevels <= 1)
+    {
+        m_nodes[size_t(node)].creationIndex = int32_t(creationOrder.size());
+        creationOrder.push_back(node);
+        return;
+    }
+    const Box b = m_nodes[size_t(node)].box;
+    const float midX = 0.5f * (b.minX + b.maxX);
+    const float midY = 0.5f * (b.minY + b.maxY);
+    const Box quadrants[4] = {
+        Box{b.minX, b.minY, midX, midY},
+        Box{midX, b.minY, b.maxX, midY},
+        Box{b.minX, midY, midX, b.maxY},
+        Box{midX, midY, b.maxX, b.maxY},
+    };
+    for (const Box& q : quadrants)
+    {
+        m_nodes[size_t(node)].children.push_back(int32_t(m_nodes.size()));
+        m_nodes.push_back(Node{q, {}, {}, -1, -1});
+    }
+    for (int i = 0; i < 4; ++i)
+    {
+        Generate(m_nodes[size_t(node)].children[size_t(i)], remainingLevels - 1, creationOrder);
+    }
+}
+
+// The paper's linearize (Figure 2): walk rows, then columns, and take the leaf whose creation index is
+// 2 * spread(row) + spread(column) (its base-4 "binary to decimal" conversion), numbering leaves row-major.
+void PaperQuadtreeBroadPhase::Linearize(const std::vector<int32_t>& creationOrder)
+{
+    m_leaves.clear();
+    m_leaves.reserve(creationOrder.size());
+    for (int32_t row = 0; row < m_leafSide; ++row)
+    {
+        for (int32_t column = 0; column < m_leafSide; ++column)
+        {
+            const int32_t node = creationOrder[PaperCreationIndex(uint32_t(row), uint32_t(column))];
+            m_nodes[size_t(node)].leafIndex = int32_t(m_leaves.size());
+            m_leaves.push_back(node);
+        }
+    }
+}
+
+// The paper's insert: from the root, go to the child whose quadrant holds the centre (x < mid: low side, else high
+// side), until a leaf. Centres outside the bounds therefore land in border leaves (clamped, never dropped);
+// a NaN centre compares false and lands in the (high x, high y) corner leaf.
+int32_t PaperQuadtreeBroadPhase::Descend(const Box& fat) const
+{
+    const float cx = 0.5f * (fat.minX + fat.maxX);
+    const float cy = 0.5f * (fat.minY + fat.maxY);
+    int32_t node = 0;
+    while (!m_nodes[size_t(node)].children.empty())
+    {
+        const Node& n = m_nodes[size_t(node)];
+        const float midX = 0.5f * (n.box.minX + n.box.maxX);
+        const float midY = 0.5f * (n.box.minY + n.box.maxY);
+        const int quadrant = (cx < midX ? 0 : 1) + (cy < midY ? 0 : 2);
+        node = n.children[size_t(quadrant)];
+    }
+    return node;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Pair finding.
+
+namespace
+{
+// One leaf of the paper's loop. For each object, in leaf order: first its edge neighbours, in the paper's edge
+// order (top, bottom, left, right = row - 1, row + 1, column - 1, column + 1 here), each one when the object's fat
+// box crosses that side of its own leaf (strictly) and the leaf is not on that border of the bounds: the object is
+// tested against every object of that neighbour. Then the objects after it in its own leaf.
+template <typename Emit>
+void ProcessLeaf(const std::vector<ProxyId>& objects, const Box& leafBox, int32_t leafIndex, int32_t side,
+                 const std::vector<const std::vector<ProxyId>*>& leafObjects, const ProxyPool& pool, Emit&& emit,
+                 int64_t& tests)
+{
+    const int32_t row = leafIndex / side;
+    const int32_t column = leafIndex % side;
+    const size_t count = objects.size();
+    for (size_t i = 0; i < count; ++i)
+    {
+        const ProxyId a = objects[i];
+        const Box& fa = pool.Fat(a);
+        const bool cross[4] = {
+            fa.minY < leafBox.minY && row > 0,
+            fa.maxY > leafBox.maxY && row < side - 1,
+            fa.minX < leafBox.minX && column > 0,
+            fa.maxX > leafBox.maxX && column < side - 1,
+        };
+        const int32_t neighbour[4] = {leafIndex - side, leafIndex + side, leafIndex - 1, leafIndex + 1};
+        for (int e = 0; e < 4; ++e)
+        {
+            if (!cross[e])
+            {
+                continue;
+            }
+            for (ProxyId b : *leafObjects[size_t(neighbour[e])])
+            {
+                ++tests;
+                if (Overlaps(fa, pool.Fat(b)))
+                {
+                    emit(a, b);
+                }
+            }
+        }
+        for (size_t j = i + 1; j < count; ++j)
+        {
+            const ProxyId b = objects[j];
+            ++tests;
+            if (Overlaps(fa, pool.Fat(b)))
+            {
+                emit(a, b);
+            }
+        }
+    }
+}
+} // namespace
+
+void PaperQuadtreeBroadPhase::FindPairs(std::vector<Pair>& out)
+{
+    m_pool.TakeBuffer(m_work); // flags the buffered proxies "in work" for the Buffered filter, clears the buffer
+    const int threads = m_threads > 0 ? m_threads : omp_get_max_threads();
+    if (threads <= 1)
+    {
+        RunSequential(out);
+    }
+    else
+    {
+        RunParallel(out, threads);
+    }
+    // The paper's clearTree, after the pairs are found.
+    for (int32_t node : m_leaves)
+    {
+        m_nodes[size_t(node)].objects.clear();
+    }
+    m_pool.ReleaseWork(m_work);
+}
+
+// The paper's sequential quadtree ("Seq." in its tables): no parallel region; insertion still goes through the
+// leaf lock (its Box::addParticle), pairs are pushed without the pair lock.
+void PaperQuadtreeBroadPhase::RunSequential(std::vector<Pair>& out)
+{
+    for (ProxyId id = 0; id < m_pool.IdBound(); ++id)
+    {
+        if (m_pool.IsLive(id))
+        {
+            Node& leaf = m_nodes[size_t(Descend(m_pool.Fat(id)))];
+            omp_lock_t& lock = m_locks->leaf[size_t(leaf.leafIndex)];
+            omp_set_lock(&lock);
+            leaf.objects.push_back(id);
+            omp_unset_lock(&lock);
+        }
+    }
+
+    std::vector<const std::vector<ProxyId>*> leafObjects(m_leaves.size());
+    for (size_t i = 0; i < m_leaves.size(); ++i)
+    {
+        leafObjects[i] = &m_nodes[size_t(m_leaves[i])].objects;
+    }
+    const bool filter = m_report == PaperPairReport::Buffered;
+    int64_t tests = 0;
+    int64_t found = 0;
+    auto emit = [&](ProxyId a, ProxyId b) {
+        ++found;
+        if (!filter || m_pool.InWork(a) || m_pool.InWork(b))
+        {
+            out.push_back(Ordered(a, b));
+        }
+    };
+    const int32_t leafCount = int32_t(m_leaves.size());
+    for (int32_t li = 0; li < leafCount; ++li)
+    {
+        const Node& leaf = m_nodes[size_t(m_leaves[size_t(li)])];
+        ProcessLeaf(leaf.objects, leaf.box, li, m_leafSide, leafObjects, m_pool, emit, tests);
+    }
+    m_lastTests = tests;
+    m_lastFound = found;
+}
+
+// The paper's parallel quadtree: one parallel region; insertion as an OpenMP loop (schedule(static)) with a lock
+// per leaf; then the loop over leaves with the chosen schedule, every pair pushed into the one shared vector under
+// the one pair lock.
+void PaperQuadtreeBroadPhase::RunParallel(std::vector<Pair>& out, int threads)
+{
+    std::vector<const std::vector<ProxyId>*> leafObjects(m_leaves.size());
+    for (size_t i = 0; i < m_leaves.size(); ++i)
+    {
+        leafObjects[i] = &m_nodes[size_t(m_leaves[i])].objects;
+    }
+
+    omp_sched_t previousKind;
+    int previousChunk;
+    omp_get_schedule(&previousKind, &previousChunk);
+    omp_set_schedule(OmpKind(m_schedule), 0); // 0: OpenMP's default chunk for that schedule
+
+    const bool filter = m_report == PaperPairReport::Buffered;
+    const ProxyId idBound = m_pool.IdBound();
+    const int32_t leafCount = int32_t(m_leaves.size());
+    Locks& locks = *m_locks;
+    int64_t tests = 0;
+    int64_t found = 0;
+
+#pragma omp parallel num_threads(threads) reduction(+ : tests, found)
+    {
+#pragma omp for schedule(static)
+        for (ProxyId id = 0; id < idBound; ++id)
+        {
+            if (m_pool.IsLive(id))
+            {
+                Node& leaf = m_nodes[size_t(Descend(m_pool.Fat(id)))];
+                omp_lock_t& lock = locks.leaf[size_t(leaf.leafIndex)];
+                omp_set_lock(&lock);
+                leaf.objects.push_back(id);
+                omp_unset_lock(&lock);
+            }
+        }
+        // (implicit barrier: every object is inserted before any leaf is searched)
+
+        auto emit = [&](ProxyId a, ProxyId b) {
+            ++found;
+            if (!filter || m_pool.InWork(a) || m_pool.InWork(b))
+            {
+                omp_set_lock(&locks.pairs);
+                out.push_back(Ordered(a, b));
+                omp_unset_lock(&locks.pairs);
+            }
+        };
+#pragma omp for schedule(runtime)
+        for (int32_t li = 0; li < leafCount; ++li)
+        {
+            const Node& leaf = m_nodes[size_t(m_leaves[size_t(li)])];
+            ProcessLeaf(leaf.objects, leaf.box, li, m_leafSide, leafObjects, m_pool, emit, tests);
+        }
+    }
+
+    omp_set_schedule(previousKind, previousChunk); // the schedule ICV belongs to the caller's thread
+    m_lastTests = tests;
+    m_lastFound = found;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Proxy calls: identical to BruteForceBroadPhase (same pool, same fat policy).
+
+ProxyId PaperQuadtreeBroadPhase::CreateProxy(const Box& tight, void* userData)
+{
+    const ProxyId id = m_pool.Allocate(FattenNew(m_policy, tight), userData);
+    m_pool.Buffer(id);
+    return id;
+}
+
+void PaperQuadtreeBroadPhase::DestroyProxy(ProxyId id)
+{
+    if (m_pool.CheckLive(id, "DestroyProxy"))
+    {
+        m_pool.Free(id);
+    }
+}
+
+bool PaperQuadtreeBroadPhase::MoveProxy(ProxyId id, const Box& tight, Vec2 displacement)
+{
+    if (!m_pool.CheckLive(id, "MoveProxy") || !Refatten(m_policy, m_pool.Fat(id), tight, displacement))
+    {
+        return false;
+    }
+    m_pool.Buffer(id);
+    return true;
+}
+
+void PaperQuadtreeBroadPhase::TouchProxy(ProxyId id)
+{
+    if (m_pool.CheckLive(id, "TouchProxy"))
+    {
+        m_pool.Buffer(id);
+    }
+}
+
+void PaperQuadtreeBroadPhase::Query(const Box& box, QueryFn fn, void* context) const
+{
+    for (ProxyId p = 0; p < m_pool.IdBound(); ++p)
+    {
+        if (m_pool.IsLive(p) && Overlaps(m_pool.Fat(p), box) && !fn(context, p))
+        {
+            return;
+        }
+    }
+}
+
+void PaperQuadtreeBroadPhase::RayCast(const RayInput& input, RayCastFn fn, void* context) const
+{
+    SegmentTest segment(input);
+    for (ProxyId p = 0; p < m_pool.IdBound(); ++p)
+    {
+        if (!m_pool.IsLive(p) || !segment.MayCross(m_pool.Fat(p)))
+        {
+            continue;
+        }
+        const float value = fn(context, RayInput{input.p1, input.p2, segment.MaxFraction()}, p);
+        if (value == 0.0f)
+        {
+            return;
+        }
+        if (value > 0.0f)
+        {
+            segment.Clip(value);
+        }
+    }
+}
+
+void PaperQuadtreeBroadPhase::ShiftOrigin(Vec2 newOrigin)
+{
+    m_pool.ShiftOrigin(newOrigin);
+    m_bounds = Box{m_bounds.minX - newOrigin.x, m_bounds.minY - newOrigin.y, m_bounds.maxX - newOrigin.x,
+                   m_bounds.maxY - newOrigin.y};
+    BuildTree(); // same leaf count: the locks stay
+}
+
+const Box& PaperQuadtreeBroadPhase::GetFatBox(ProxyId id) const
+{
+    return m_pool.CheckLive(id, "GetFatAABB") ? m_pool.Fat(id) : kEmptyBox;
+}
+
+void* PaperQuadtreeBroadPhase::GetUserData(ProxyId id) const
+{
+    return m_pool.IsLive(id) ? m_pool.UserData(id) : nullptr;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Inspection.
+
+const Box& PaperQuadtreeBroadPhase::GetLeafBox(int32_t row, int32_t column) const
+{
+    if (row < 0 || row >= m_leafSide || column < 0 || column >= m_leafSide)
+    {
+        return kEmptyBox;
+    }
+    return m_nodes[size_t(m_leaves[size_t(row * m_leafSide + column)])].box;
+}
+
+int32_t PaperQuadtreeBroadPhase::GetLeafCreationIndex(int32_t row, int32_t column) const
+{
+    if (row < 0 || row >= m_leafSide || column < 0 || column >= m_leafSide)
+    {
+        return -1;
+    }
+    return m_nodes[size_t(m_leaves[size_t(row * m_leafSide + column)])].creationIndex;
+}
+
+int32_t PaperQuadtreeBroadPhase::GetLeafOf(ProxyId id) const
+{
+    return m_pool.IsLive(id) ? m_nodes[size_t(Descend(m_pool.Fat(id)))].leafIndex : -1;
+}
+
+std::string PaperQuadtreeBroadPhase::Validate() const
+{
+    const int32_t side = m_leafSide;
+    if (m_leaves.size() != size_t(side) * size_t(side))
+    {
+        return "leaf vector has " + std::to_string(m_leaves.size()) + " entries, expected " +
+               std::to_string(int64_t(side) * side);
+    }
+    if (m_locks == nullptr || m_locks->leaf.size() != m_leaves.size())
+    {
+        return "leaf locks do not match the leaves";
+    }
+    for (int32_t row = 0; row < side; ++row)
+    {
+        for (int32_t column = 0; column < side; ++column)
+        {
+            const int32_t index = row * side + column;
+            const Node& leaf = m_nodes[size_t(m_leaves[size_t(index)])];
+            const std::string where = "leaf (row " + std::to_string(row) + ", column " + std::to_string(column) + ")";
+            if (!leaf.children.empty() || leaf.leafIndex != index)
+            {
+                return where + " is not a leaf numbered " + std::to_string(index);
+            }
+            if (leaf.creationIndex != int32_t(PaperCreationIndex(uint32_t(row), uint32_t(column))))
+            {
+                return where + " has creation index " + std::to_string(leaf.creationIndex);
+            }
+            const float expectMinX = column == 0 ? m_bounds.minX : GetLeafBox(row, column - 1).maxX;
+            const float expectMinY = row == 0 ? m_bounds.minY : GetLeafBox(row - 1, column).maxY;
+            if (leaf.box.minX != expectMinX || leaf.box.minY != expectMinY ||
+                (column == side - 1 && leaf.box.maxX != m_bounds.maxX) ||
+                (row == side - 1 && leaf.box.maxY != m_bounds.maxY) || !(leaf.box.minX < leaf.box.maxX) ||
+                !(leaf.box.minY < leaf.box.maxY))
+            {
+                return where + " is not in row-major place";
+            }
+            if (!leaf.objects.empty())
+            {
+                return where + " was not cleared";
+            }
+        }
+    }
+    for (const Node& n : m_nodes)
+    {
+        if (n.children.empty())
+        {
+            continue;
+        }
+        if (n.children.size() != 4)
+        {
+            return "an inner node has " + std::to_string(n.children.size()) + " children";
+        }
+        const Box& c0 = m_nodes[size_t(n.children[0])].box;
+        const Box& c1 = m_nodes[size_t(n.children[1])].box;
+        const Box& c2 = m_nodes[size_t(n.children[2])].box;
+        const Box& c3 = m_nodes[size_t(n.children[3])].box;
+        const bool tiles = c0.minX == n.box.minX && c0.minY == n.box.minY && c0.maxX == c1.minX &&
+                           c0.maxY == c2.minY && c3.maxX == n.box.maxX && c3.maxY == n.box.maxY &&
+                           c1.maxX == n.box.maxX && c2.maxY == n.box.maxY && c1.minY == n.box.minY &&
+                           c2.minX == n.box.minX && c3.minX == c1.minX && c3.minY == c2.minY;
+        if (!tiles)
+        {
+            return "children do not tile their parent in the order TL, TR, BL, BR";
+        }
+    }
+    return m_pool.Validate();
+}
+
+} // namespace bench
+} // namespace quadphase

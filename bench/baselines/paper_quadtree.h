@@ -1,0 +1,155 @@
+// Benchmark baseline: the design of the paper quadphase comes from (Lok Man Chu, "N-CS159: Parallel Collision
+// Detection", SJSU; /work/shared/reference/parallel-collision-detection-paper.md), reproduced as faithfully as the
+// BroadPhaseInterface allows so that the same traces can be replayed through it. It is APPROXIMATE by design: it
+// misses some overlapping pairs and reports some pairs twice. Every choice is listed in bench/baselines/README.md.
+//
+// In short:
+// - a static quadtree of `levels` levels (the paper's "Lvl"; the root is level 1, so the leaves form a
+//   2^(levels-1) x 2^(levels-1) grid) over fixed bounds, built once as nodes with child vectors; its leaves are
+//   collected in creation order and re-indexed in row-major order (the paper's linearize step, Figure 2);
+// - each FindPairs inserts every live proxy by the centre of its fat box into the one leaf containing it
+//   (descending from the root, so centres outside the bounds land in border leaves), then tests, for every leaf,
+//   the pairs inside the leaf and, for each object whose fat box crosses one of its leaf's four sides, that object
+//   against every object of the edge neighbour on that side (no diagonal neighbours); then clears the tree;
+// - the loop over leaves is an OpenMP loop with a settable schedule, and every pair is pushed into ONE shared
+//   vector (the caller's `out`) under ONE omp_lock_t, as in the paper.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "quadphase/broad_phase_interface.h"
+#include "quadphase/config.h"
+#include "quadphase/fat_policy.h"
+#include "quadphase/proxy_pool.h"
+
+namespace quadphase
+{
+namespace bench
+{
+
+/// Which of the pairs found FindPairs reports.
+enum class PaperPairReport
+{
+    /// Every pair the paper's algorithm finds among ALL live proxies (the paper has no move buffer: it recomputes
+    /// all pairs every frame). The move buffer is still cleared.
+    All,
+    /// Only the found pairs with at least one buffered proxy: the pair set of the exact broadphases, minus what the
+    /// paper's algorithm misses, plus its duplicates.
+    Buffered,
+};
+
+/// The paper's static quadtree behind quadphase's BroadPhaseInterface.
+///
+/// Not exact: a pair is missed when its two fat boxes overlap but the centres lie in leaves that are neither equal
+/// nor edge neighbours (diagonal neighbours, objects larger than a leaf), or when they only touch exactly on a leaf
+/// side; a pair is reported twice when both fat boxes cross the side between their two leaves. Pair order depends
+/// on thread timing (one shared vector under one lock), so it is not deterministic; the multiset of pairs is.
+/// Fat boxes, ids, Query, RayCast and GetFatBox behave exactly as in BruteForceBroadPhase (same ProxyPool,
+/// FatPolicy, FattenNew, Refatten; Query and RayCast are brute force over the pool).
+class PaperQuadtreeBroadPhase final : public BroadPhaseInterface
+{
+public:
+    static constexpr int kMinLevels = 1; ///< one leaf: the root
+    static constexpr int kMaxLevels = 9; ///< 256 x 256 leaves, the paper's largest (its linearize uses bitset<8>)
+
+    /// `levels` is clamped to [kMinLevels, kMaxLevels]. `bounds` is the fixed region (the paper used the window);
+    /// an empty, inverted or non-finite region is reported (ErrorCode::InvertedBox / NonFiniteBox) and replaced by
+    /// Config's default bounds. `threads`: 0 = OpenMP's own setting, 1 = the paper's sequential quadtree (no
+    /// parallel region, no pair lock), n >= 2 = a team of n. `schedule` is the leaf loop's OpenMP schedule
+    /// (Static, Dynamic, Guided as compared in the paper; Auto is not from the paper), with OpenMP's default chunk.
+    PaperQuadtreeBroadPhase(int levels, const Box& bounds, int threads = 0, Schedule schedule = Schedule::Static,
+                            PaperPairReport report = PaperPairReport::All, const FatPolicy& policy = FatPolicy{});
+    ~PaperQuadtreeBroadPhase() override;
+
+    PaperQuadtreeBroadPhase(const PaperQuadtreeBroadPhase&) = delete;
+    PaperQuadtreeBroadPhase& operator=(const PaperQuadtreeBroadPhase&) = delete;
+
+    ProxyId CreateProxy(const Box& tight, void* userData) override;
+    void DestroyProxy(ProxyId id) override;
+    bool MoveProxy(ProxyId id, const Box& tight, Vec2 displacement) override;
+    void TouchProxy(ProxyId id) override;
+
+    /// Inserts every live proxy, finds pairs leaf by leaf, clears the tree; appends to `out` (see PaperPairReport)
+    /// and clears the move buffer. Pairs are {a, b} with a < b; a pair may appear twice; some pairs are missed.
+    void FindPairs(std::vector<Pair>& out) override;
+
+    /// Brute force over the pool: the same answers, in the same order, as BruteForceBroadPhase.
+    void Query(const Box& box, QueryFn fn, void* context) const override;
+    void RayCast(const RayInput& input, RayCastFn fn, void* context) const override;
+
+    /// Moves every stored box and the bounds (the tree's node boxes) by -newOrigin, so that each proxy keeps its
+    /// leaf.
+    void ShiftOrigin(Vec2 newOrigin) override;
+
+    const Box& GetFatBox(ProxyId id) const override;
+    void* GetUserData(ProxyId id) const override;
+    int32_t GetProxyCount() const override { return m_pool.LiveCount(); }
+
+    void SetReport(PaperPairReport report) { m_report = report; }
+    PaperPairReport GetReport() const { return m_report; }
+
+    int GetLevels() const { return m_levels; }
+    /// Leaves along one side: 2^(levels-1).
+    int32_t GetLeafSide() const { return m_leafSide; }
+    const Box& GetBounds() const { return m_bounds; }
+    int GetThreads() const { return m_threads; }
+    Schedule GetSchedule() const { return m_schedule; }
+
+    /// Box of the leaf at row `row` (0 at bounds.minY), column `column` (0 at bounds.minX), looked up through the
+    /// row-major leaf vector.
+    const Box& GetLeafBox(int32_t row, int32_t column) const;
+
+    /// Position (0-based) of the leaf at `row`, `column` in the paper's creation order, before linearizing.
+    int32_t GetLeafCreationIndex(int32_t row, int32_t column) const;
+
+    /// Row-major index (row * GetLeafSide() + column) of the leaf that the centre of `id`'s fat box is inserted
+    /// into; -1 for an unknown id.
+    int32_t GetLeafOf(ProxyId id) const;
+
+    /// Counters of the last FindPairs: overlap tests made, and pairs found (before the Buffered filter).
+    int64_t GetLastTests() const { return m_lastTests; }
+    int64_t GetLastFound() const { return m_lastFound; }
+
+    /// Checks the tree (leaf count, row-major geometry of the linearized leaves, children tile their parent,
+    /// all leaves empty between calls) and the pool. Empty string when all hold, otherwise the first violation.
+    std::string Validate() const;
+
+private:
+    struct Node
+    {
+        Box box;
+        std::vector<int32_t> children; // indices into m_nodes, in the paper's order TL, TR, BL, BR (see README)
+        std::vector<ProxyId> objects;  // leaves only
+        int32_t leafIndex = -1;        // row-major index once linearized (the paper's boxIndex); -1 for inner nodes
+        int32_t creationIndex = -1;    // position in creation order; -1 for inner nodes
+    };
+    struct Locks; // omp_lock_t per leaf and the one pair lock; defined in the .cpp so omp.h stays out of here
+
+    void BuildTree();
+    void Generate(int32_t node, int remainingLevels, std::vector<int32_t>& creationOrder);
+    void Linearize(const std::vector<int32_t>& creationOrder);
+    int32_t Descend(const Box& fat) const;
+    void RunSequential(std::vector<Pair>& out);
+    void RunParallel(std::vector<Pair>& out, int threads);
+
+    FatPolicy m_policy;
+    ProxyPool m_pool;
+    std::vector<ProxyId> m_work;
+    PaperPairReport m_report;
+    int m_levels;
+    int32_t m_leafSide;
+    Box m_bounds;
+    int m_threads;
+    Schedule m_schedule;
+    std::vector<Node> m_nodes;       // m_nodes[0] is the root
+    std::vector<int32_t> m_leaves;   // node index of each leaf, row-major after Linearize (the paper's `leafs`)
+    std::unique_ptr<Locks> m_locks;
+    int64_t m_lastTests = 0;
+    int64_t m_lastFound = 0;
+};
+
+} // namespace bench
+} // namespace quadphase
