@@ -16,8 +16,8 @@ ProxyId ProxyPool::Allocate(const Box& fat, void* userData)
         m_freeList.pop_back();
         m_fat[size_t(id)] = fat;
         m_userData[size_t(id)] = userData;
-        // A buffered flag left by the previous owner of this id stays: its entry is still in the move buffer.
-        m_state[size_t(id)] = uint8_t(kLive | (m_state[size_t(id)] & kBuffered));
+        // Buffered and stale flags left by the previous owner of this id stay: its entries are still listed.
+        m_state[size_t(id)] = uint8_t(kLive | (m_state[size_t(id)] & (kBuffered | kStale)));
     }
     else
     {
@@ -32,7 +32,7 @@ ProxyId ProxyPool::Allocate(const Box& fat, void* userData)
 
 void ProxyPool::Free(ProxyId id)
 {
-    // Keep kBuffered so that Buffer() will not append the id again while its old entry is in the move buffer.
+    // Keep kBuffered and kStale so the id is not appended again while its old entry is still listed.
     m_state[size_t(id)] &= uint8_t(~kLive);
     m_userData[size_t(id)] = nullptr;
     m_freeList.push_back(id);

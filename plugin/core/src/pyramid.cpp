@@ -2,6 +2,8 @@
 
 #include <string>
 
+#include <omp.h>
+
 namespace quadphase
 {
 namespace
@@ -89,14 +91,20 @@ void Pyramid::Insert(ProxyId id, const Box& box)
     m_outsideCount += loc.outside ? 1 : 0;
 }
 
-void Pyramid::Remove(ProxyId id)
+void Pyramid::RemoveFromCell(ProxyId id)
 {
-    Location& loc = m_location[size_t(id)];
+    const Location& loc = m_location[size_t(id)];
     std::vector<Entry>& entries = m_cells[size_t(loc.cell)];
     const Entry& last = entries.back();
     m_location[size_t(last.id)].slot = loc.slot;
     entries[size_t(loc.slot)] = last;
     entries.pop_back();
+}
+
+void Pyramid::Remove(ProxyId id)
+{
+    RemoveFromCell(id);
+    Location& loc = m_location[size_t(id)];
 
     std::vector<ProxyId>& levelList = m_levelProxies[size_t(loc.level)];
     const ProxyId lastId = levelList.back();
@@ -127,6 +135,96 @@ bool Pyramid::Update(ProxyId id, const Box& box)
     m_location[size_t(id)].outside = outside;
     m_outsideCount += outside ? 1 : 0;
     return true;
+}
+
+int64_t Pyramid::UpdateBatch(const std::vector<ProxyId>& ids, const Box* boxes, int threads)
+{
+    const int64_t count = int64_t(ids.size());
+    m_plan.resize(size_t(count));
+    int64_t changes = 0;
+    int32_t outsideDelta = 0;
+
+#pragma omp parallel num_threads(threads) if (threads > 1)
+    {
+        // A. Place every box; rewrite in place the entries that stay in their cell. Each iteration touches only
+        //    its own id's location and entry.
+#pragma omp for schedule(static) reduction(+ : outsideDelta)
+        for (int64_t i = 0; i < count; ++i)
+        {
+            const ProxyId id = ids[size_t(i)];
+            const Box& box = boxes[id];
+            int level;
+            int32_t cell;
+            PlaceCell(box, level, cell);
+            Location& loc = m_location[size_t(id)];
+            const bool outside = !Inside(box);
+            outsideDelta += int32_t(outside) - int32_t(loc.outside);
+            loc.outside = outside;
+            uint8_t kind = 2;
+            if (cell == loc.cell)
+            {
+                m_cells[size_t(cell)][size_t(loc.slot)].box = box;
+                kind = 0;
+            }
+            else if (level == loc.level)
+            {
+                kind = 1;
+            }
+            m_plan[size_t(i)] = Plan{loc.cell, cell, int8_t(level), kind};
+        }
+
+        // B. Level changes are rare (a box changed size a lot); they also edit the shared level lists.
+#pragma omp single
+        {
+            for (int64_t i = 0; i < count; ++i)
+            {
+                const Plan& plan = m_plan[size_t(i)];
+                if (plan.kind == 0)
+                {
+                    continue;
+                }
+                ++changes;
+                if (plan.kind == 2)
+                {
+                    const ProxyId id = ids[size_t(i)];
+                    const bool outside = m_location[size_t(id)].outside;
+                    Remove(id);
+                    Store(id, boxes[id], plan.toLevel, plan.toCell);
+                    m_location[size_t(id)].outside = outside;
+                    m_outsideCount += outside ? 1 : 0;
+                }
+            }
+        } // implicit barrier
+
+        // C and D. Cells are dealt to threads in runs of 16; every thread reads the whole plan in order and applies
+        // the operations of its own cells, so a cell's operations keep the plan's order whoever owns it.
+        const int team = omp_get_num_threads();
+        const int me = omp_get_thread_num();
+        for (int64_t i = 0; i < count; ++i)
+        {
+            const Plan& plan = m_plan[size_t(i)];
+            if (plan.kind == 1 && (plan.fromCell >> 4) % team == me)
+            {
+                RemoveFromCell(ids[size_t(i)]);
+            }
+        }
+#pragma omp barrier
+        for (int64_t i = 0; i < count; ++i)
+        {
+            const Plan& plan = m_plan[size_t(i)];
+            if (plan.kind == 1 && (plan.toCell >> 4) % team == me)
+            {
+                const ProxyId id = ids[size_t(i)];
+                std::vector<Entry>& entries = m_cells[size_t(plan.toCell)];
+                Location& loc = m_location[size_t(id)];
+                loc.cell = plan.toCell;
+                loc.slot = int32_t(entries.size());
+                entries.push_back(Entry{boxes[id], id});
+            }
+        }
+    }
+    m_outsideCount += outsideDelta;
+    return changes;
 }
 
 void Pyramid::CountOccupancy(int64_t& occupied, int64_t& largest) const

@@ -63,7 +63,7 @@ ProxyId QuadtreeBroadPhase::CreateProxy(const Box& tight, void* userData)
     CheckBox(tight, "CreateProxy", id);
     m_pyramid.Insert(id, fat);
     m_pool.Buffer(id);
-    if (m_pool.LiveCount() > 2 * m_tunedCount && (m_config.depth < 0 || m_config.autoBounds))
+    if (m_pool.LiveCount() >= 2 * m_tunedCount && (m_config.depth < 0 || m_config.autoBounds))
     {
         // Re-tune while a scene is being built, so queries made before the first step are not all in one cell.
         // Doubling keeps the total rebuild work linear in the number of creations.
@@ -106,7 +106,10 @@ bool QuadtreeBroadPhase::MoveProxy(ProxyId id, const Box& tight, Vec2 displaceme
     {
         return false;
     }
-    m_counters.reinserts += m_pyramid.Update(id, fat) ? 1 : 0;
+    if (m_pool.MarkStale(id))
+    {
+        m_stale.push_back(id);
+    }
     m_pool.Buffer(id);
     if (m_timing)
     {
@@ -165,9 +168,10 @@ void QuadtreeBroadPhase::FindPairs(std::vector<Pair>& out)
     {
         Retune();
     }
+    const int threads = Threads();
+    UpdateStaleEntries(threads);
     m_pool.TakeBuffer(m_work);
     const size_t before = out.size();
-    const int threads = m_config.threads > 0 ? m_config.threads : omp_get_max_threads();
     if (threads > 1 && int64_t(m_work.size()) >= int64_t(m_config.parallelThreshold))
     {
         FindPairsParallel(out, threads);
@@ -188,6 +192,33 @@ void QuadtreeBroadPhase::FindPairs(std::vector<Pair>& out)
     m_counters.lastPairs = found;
     m_counters.proxiesQueried += int64_t(m_work.size());
     m_counters.pairSeconds += SecondsSince(start);
+}
+
+int QuadtreeBroadPhase::Threads() const
+{
+    return m_config.threads > 0 ? m_config.threads : omp_get_max_threads();
+}
+
+void QuadtreeBroadPhase::UpdateStaleEntries(int threads)
+{
+    if (m_stale.empty())
+    {
+        return;
+    }
+    const Clock::time_point start = Clock::now();
+    m_batch.clear();
+    for (ProxyId id : m_stale)
+    {
+        m_pool.ClearStale(id);
+        if (m_pool.IsLive(id))
+        {
+            m_batch.push_back(id);
+        }
+    }
+    m_stale.clear();
+    const bool parallel = threads > 1 && int64_t(m_batch.size()) >= int64_t(m_config.parallelThreshold);
+    m_counters.reinserts += m_pyramid.UpdateBatch(m_batch, m_pool.FatData(), parallel ? threads : 1);
+    m_counters.updateSeconds += SecondsSince(start);
 }
 
 // The buffered proxies are cut into fixed blocks of kBlock queries, whatever the thread count. Each block writes
@@ -238,7 +269,25 @@ void QuadtreeBroadPhase::FindPairsParallel(std::vector<Pair>& out, int threads)
 
 void QuadtreeBroadPhase::Query(const Box& box, QueryFn fn, void* context) const
 {
-    m_pyramid.Visit(box, [&](const Entry& e) { return Overlaps(e.box, box) ? fn(context, e.id) : true; });
+    if (m_stale.empty())
+    {
+        m_pyramid.Visit(box, [&](const Entry& e) { return Overlaps(e.box, box) ? fn(context, e.id) : true; });
+        return;
+    }
+    // Stale entries hold an old box: skip them, and test the current boxes of the stale proxies instead.
+    bool proceed = true;
+    m_pyramid.Visit(box, [&](const Entry& e) {
+        proceed = m_pool.IsStale(e.id) || !Overlaps(e.box, box) || fn(context, e.id);
+        return proceed;
+    });
+    for (size_t i = 0; proceed && i < m_stale.size(); ++i)
+    {
+        const ProxyId id = m_stale[i];
+        if (m_pool.IsLive(id) && Overlaps(m_pool.Fat(id), box))
+        {
+            proceed = fn(context, id);
+        }
+    }
 }
 
 void QuadtreeBroadPhase::RayCast(const RayInput& input, RayCastFn fn, void* context) const
@@ -246,16 +295,14 @@ void QuadtreeBroadPhase::RayCast(const RayInput& input, RayCastFn fn, void* cont
     SegmentTest segment(input);
     // Visit reads the range of each level from this box, so clipping the ray shrinks the search of later levels.
     Box range = segment.Bounds();
-    m_pyramid.Visit(range, [&](const Entry& e) {
-        if (!segment.MayCross(e.box))
-        {
-            return true;
-        }
+    const bool anyStale = !m_stale.empty();
+    // Reports one proxy whose box the ray may cross; false when the caller ended the ray cast.
+    auto report = [&](ProxyId id) {
         const RayInput sub{input.p1, input.p2, segment.MaxFraction()};
-        const float value = fn(context, sub, e.id);
+        const float value = fn(context, sub, id);
         if (value == 0.0f)
         {
-            return false; // the caller ended the ray cast
+            return false;
         }
         if (value > 0.0f)
         {
@@ -263,7 +310,25 @@ void QuadtreeBroadPhase::RayCast(const RayInput& input, RayCastFn fn, void* cont
             range = segment.Bounds();
         }
         return true;
+    };
+    bool proceed = true;
+    m_pyramid.Visit(range, [&](const Entry& e) {
+        // Stale entries hold an old box; their proxies are tested below with their current box.
+        if ((anyStale && m_pool.IsStale(e.id)) || !segment.MayCross(e.box))
+        {
+            return true;
+        }
+        proceed = report(e.id);
+        return proceed;
     });
+    for (size_t i = 0; proceed && i < m_stale.size(); ++i)
+    {
+        const ProxyId id = m_stale[i];
+        if (m_pool.IsLive(id) && segment.MayCross(m_pool.Fat(id)))
+        {
+            proceed = report(id);
+        }
+    }
 }
 
 void QuadtreeBroadPhase::ShiftOrigin(Vec2 newOrigin)
@@ -291,7 +356,7 @@ bool QuadtreeBroadPhase::NeedsRetune() const
         return false;
     }
     const int32_t n = m_pool.LiveCount();
-    if (n > 2 * m_tunedCount || (m_tunedCount > 64 && 4 * n < m_tunedCount))
+    if ((n > 0 && n >= 2 * m_tunedCount) || (m_tunedCount > 64 && 4 * n < m_tunedCount))
     {
         return true;
     }
@@ -396,6 +461,12 @@ void QuadtreeBroadPhase::Rebuild(float originX, float originY, float side, int d
             m_pyramid.Insert(id, m_pool.Fat(id));
         }
     }
+    // Every entry was just written from the current boxes.
+    for (ProxyId id : m_stale)
+    {
+        m_pool.ClearStale(id);
+    }
+    m_stale.clear();
     m_counters.rebuilds += 1;
 }
 
@@ -451,10 +522,26 @@ std::string QuadtreeBroadPhase::Validate() const
         return "pyramid stores " + std::to_string(stored) + " proxies but " + std::to_string(m_pool.LiveCount()) +
                " are live";
     }
-    // Every live proxy's stored box is its fat box: found through a query of its own box.
+    // A proxy is flagged stale exactly when it is in the stale list, once.
+    std::vector<uint8_t> listed(size_t(m_pool.IdBound()), 0);
+    for (ProxyId id : m_stale)
+    {
+        if (id < 0 || id >= m_pool.IdBound() || listed[size_t(id)]++ != 0 || !m_pool.IsStale(id))
+        {
+            return "stale list entry " + std::to_string(id) + " is out of range, repeated or not flagged stale";
+        }
+    }
     for (ProxyId id = 0; id < m_pool.IdBound(); ++id)
     {
-        if (!m_pool.IsLive(id))
+        if (m_pool.IsStale(id) && listed[size_t(id)] == 0)
+        {
+            return "proxy " + std::to_string(id) + " is flagged stale but not in the stale list";
+        }
+    }
+    // Every live proxy that is not stale is stored with its fat box: found through a query of its own box.
+    for (ProxyId id = 0; id < m_pool.IdBound(); ++id)
+    {
+        if (!m_pool.IsLive(id) || m_pool.IsStale(id))
         {
             continue;
         }

@@ -56,12 +56,27 @@ public:
     /// Clears the "in work" flags set by TakeBuffer.
     void ReleaseWork(const std::vector<ProxyId>& work);
 
+    /// Flags a proxy whose fat box changed since its cell entry was written ("stale"). Returns true when it was not
+    /// flagged yet, i.e. when the caller should add it to its list of stale proxies. Like the buffered flag, the
+    /// stale flag survives Free, so an id is never listed twice; ClearStale ends it.
+    bool MarkStale(ProxyId id)
+    {
+        uint8_t& s = m_state[size_t(id)];
+        const bool fresh = (s & kStale) == 0;
+        s |= kStale;
+        return fresh;
+    }
+    void ClearStale(ProxyId id) { m_state[size_t(id)] &= uint8_t(~kStale); }
+    bool IsStale(ProxyId id) const { return (m_state[size_t(id)] & kStale) != 0; }
+
     /// True while `id` is in the work list taken by TakeBuffer. A pair of two such proxies is reported by the
     /// smaller id only, so that every pair is reported once.
     bool InWork(ProxyId id) const { return (m_state[size_t(id)] & kInWork) != 0; }
 
     const Box& Fat(ProxyId id) const { return m_fat[size_t(id)]; }
     Box& Fat(ProxyId id) { return m_fat[size_t(id)]; }
+    /// The fat boxes indexed by id (valid until the next Allocate).
+    const Box* FatData() const { return m_fat.data(); }
     void* UserData(ProxyId id) const { return m_userData[size_t(id)]; }
 
     /// Moves every live fat box by -newOrigin, with the same float operations as b2DynamicTree::ShiftOrigin.
@@ -85,6 +100,7 @@ private:
     static constexpr uint8_t kLive = 1;
     static constexpr uint8_t kBuffered = 2;
     static constexpr uint8_t kInWork = 4;
+    static constexpr uint8_t kStale = 8;
 
     std::vector<Box> m_fat;
     std::vector<void*> m_userData;

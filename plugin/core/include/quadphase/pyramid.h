@@ -52,6 +52,17 @@ public:
     /// Returns true when it changed cell.
     bool Update(ProxyId id, const Box& box);
 
+    /// Replaces the stored boxes of the (distinct, stored) `ids` with `boxes[id]`, moving entries between cells as
+    /// the placement rule says, and returns how many changed cell. It runs in phases whose result does not depend
+    /// on `threads` (1 runs them without a parallel region):
+    ///  A. (parallel over ids) place each box; an entry that stays in its cell is rewritten in place;
+    ///  B. (one thread) entries that change level are moved, in `ids` order;
+    ///  C. (parallel over cells) entries that change cell within their level leave their old cell;
+    ///  D. (parallel over cells) they join their new cell.
+    /// In C and D each cell belongs to one thread, which applies that cell's removals, then insertions, in `ids`
+    /// order; so every cell ends with the same entries in the same order at any thread count.
+    int64_t UpdateBatch(const std::vector<ProxyId>& ids, const Box* boxes, int threads);
+
     /// Calls visit(const Entry&) for every stored entry that may overlap `query` (a superset of the overlapping
     /// ones, each entry at most once), level by level from the root, until visit returns false. The ranges of
     /// a level are computed from `query` when that level starts, so a caller may shrink `query` (through the
@@ -120,6 +131,17 @@ private:
     }
     void PlaceCell(const Box& box, int& level, int32_t& cell) const;
     void Store(ProxyId id, const Box& box, int level, int32_t cell);
+    void RemoveFromCell(ProxyId id);
+
+    // One entry of an UpdateBatch plan.
+    struct Plan
+    {
+        int32_t fromCell;
+        int32_t toCell;
+        int8_t toLevel;
+        uint8_t kind; // 0: stays in its cell, 1: changes cell within its level, 2: changes level
+    };
+    std::vector<Plan> m_plan;
 
     int m_depth = 0;
     float m_originX = 0.0f;

@@ -18,7 +18,9 @@ namespace quadphase
 /// Exact broadphase over a static quadtree (see Pyramid for the placement rule and why it misses nothing).
 ///
 /// Cost model:
-/// - MoveProxy is O(1): the fat-box test, and when the box changed, an O(1) cell update.
+/// - MoveProxy is O(1): the fat-box test; when the box changed, the proxy is listed as stale. Its cell entry is
+///   brought up to date by the next FindPairs, for all stale proxies at once and in parallel (Pyramid::UpdateBatch);
+///   until then Query and RayCast skip its entry and test its current box from the stale list.
 /// - FindPairs is O(buffered proxies x their neighbourhoods): one query per buffered proxy, never a pass over
 ///   all proxies or all cells. Box2D calls it once per step and again after every time-of-impact event.
 /// - The pyramid is rebuilt (O(proxies)) when the automatic rule re-tunes depth and bounds: when the proxy
@@ -75,6 +77,8 @@ private:
     void Rebuild(float originX, float originY, float side, int depth);
     bool NeedsRetune() const;
     void QueryPairsOf(ProxyId q, std::vector<Pair>& out) const;
+    void UpdateStaleEntries(int threads);
+    int Threads() const;
     void FindPairsParallel(std::vector<Pair>& out, int threads);
 
     FatPolicy m_policy;
@@ -82,6 +86,8 @@ private:
     ProxyPool m_pool;
     Pyramid m_pyramid;
     std::vector<ProxyId> m_work; // proxies whose pairs the current FindPairs searches
+    std::vector<ProxyId> m_stale; // proxies whose fat box changed since their cell entry was written (see MoveProxy)
+    std::vector<ProxyId> m_batch; // the live ones among them, handed to Pyramid::UpdateBatch
     std::vector<std::vector<Pair>> m_blockPairs; // parallel FindPairs: the pairs of each block of m_work
     int32_t m_tunedCount = 0;    // live proxies at the last automatic tuning
     int32_t m_tunedOutside = 0;  // proxies outside the bounds right after the last automatic tuning
