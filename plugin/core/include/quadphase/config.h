@@ -46,7 +46,7 @@ struct Config
     /// FindPairs with fewer buffered proxies than this runs serially, with no parallel region at all: a parallel
     /// region costs a few microseconds, more than the queries of a small scene or of a time-of-impact update.
     /// Chosen from bench/ measurements; see docs/design.md, "Parallel pair generation".
-    int parallelThreshold = 512;
+    int parallelThreshold = 128;
 };
 
 /// Deepest pyramid allowed: 4^12 leaf cells already cost hundreds of MB.
