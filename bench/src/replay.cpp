@@ -1,0 +1,642 @@
+// qp-replay: replays a trace (qp-record) through quadphase::QuadtreeBroadPhase and times the broadphase work of
+// each recorded step (definition in replay_common.h). Links quadphase::core only.
+//
+//   qp-replay --trace FILE [--threads N] [--schedule static|dynamic|guided|auto] [--chunk C] [--depth D]
+//             [--threshold T] [--config "threads=2,schedule=dynamic,depth=6"]... [--repeats R]
+//             [--check none|first|all] [--hashes-out FILE] [--compare-hashes FILE] [--brute]
+//             [--engine quadtree|null] [--json FILE] [--omp-overhead] [--label TEXT] [--per-call]
+//
+// Every --config is the base settings (--threads ... --threshold) with some keys overridden; without --config
+// there is one configuration, the base. The timed runs go round the configurations R times (configuration order
+// within each round), so slow phases of a noisy machine hit every configuration alike.
+//
+// --check first|all: before the timed runs, one untimed checking run per configuration (first: only the first
+// one) hashes the pair set of every UpdatePairs call (--hashes-out writes the first configuration's hashes;
+// --compare-hashes compares each checked configuration against a file, e.g. qp-replay-stock's) and gathers query
+// statistics (cells and candidates per query, buffered proxies per UpdatePairs call). --brute also replays
+// through BruteForceBroadPhase (small traces only) and compares.
+//
+// --per-call adds to the JSON lines the FindPairs time of every timed UpdatePairs call (timed runs) and its number
+// of buffered proxies (checking runs; the same for every configuration, since it depends only on the trace), so
+// the cost of a call can be studied by its size (where a parallel region starts paying).
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include <omp.h>
+
+#include "quadphase/brute_force_broad_phase.h"
+#include "quadphase/config.h"
+#include "quadphase/quadtree_broad_phase.h"
+#include "replay_common.h"
+
+namespace
+{
+
+using namespace qpbench;
+using quadphase::Config;
+using quadphase::ProxyId;
+using quadphase::Schedule;
+
+const char* ScheduleName(Schedule s)
+{
+    switch (s)
+    {
+    case Schedule::Static:
+        return "static";
+    case Schedule::Dynamic:
+        return "dynamic";
+    case Schedule::Guided:
+        return "guided";
+    case Schedule::Auto:
+        return "auto";
+    }
+    return "?";
+}
+
+bool ParseSchedule(const std::string& s, Schedule& out)
+{
+    if (s == "static")
+        out = Schedule::Static;
+    else if (s == "dynamic")
+        out = Schedule::Dynamic;
+    else if (s == "guided")
+        out = Schedule::Guided;
+    else if (s == "auto")
+        out = Schedule::Auto;
+    else
+        return false;
+    return true;
+}
+
+int ToInt(const std::string& key, const std::string& v)
+{
+    char* end = nullptr;
+    const long x = std::strtol(v.c_str(), &end, 10);
+    if (v.empty() || *end != '\0')
+    {
+        std::fprintf(stderr, "qp-replay: %s: '%s' is not an integer\n", key.c_str(), v.c_str());
+        std::exit(2);
+    }
+    return int(x);
+}
+
+void SetKey(Config& c, const std::string& key, const std::string& value)
+{
+    if (key == "threads")
+        c.threads = ToInt(key, value);
+    else if (key == "chunk")
+        c.chunk = ToInt(key, value);
+    else if (key == "depth")
+        c.depth = value == "auto" ? -1 : ToInt(key, value);
+    else if (key == "threshold")
+        c.parallelThreshold = ToInt(key, value);
+    else if (key == "schedule")
+    {
+        if (!ParseSchedule(value, c.schedule))
+        {
+            std::fprintf(stderr, "qp-replay: unknown schedule '%s'\n", value.c_str());
+            std::exit(2);
+        }
+    }
+    else
+    {
+        std::fprintf(stderr, "qp-replay: unknown --config key '%s'\n", key.c_str());
+        std::exit(2);
+    }
+}
+
+std::string Describe(const Config& c)
+{
+    char buf[160];
+    std::snprintf(buf, sizeof(buf), "threads=%d schedule=%s chunk=%d depth=%s threshold=%d", c.threads,
+                  ScheduleName(c.schedule), c.chunk, c.depth < 0 ? "auto" : std::to_string(c.depth).c_str(),
+                  c.parallelThreshold);
+    return buf;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Engines.
+// ---------------------------------------------------------------------------------------------------------------
+
+/// QuadtreeBroadPhase or BruteForceBroadPhase (both final: the calls below are direct).
+template <typename BP>
+class CoreEngine
+{
+public:
+    template <typename... A>
+    explicit CoreEngine(A&&... a)
+        : m_bp(std::forward<A>(a)...)
+    {
+    }
+
+    int32_t Create(const Box& tight, int32_t recorded)
+    {
+        const ProxyId id = m_bp.CreateProxy(tight, reinterpret_cast<void*>(intptr_t(recorded)));
+        if (m_track)
+        {
+            Mark(id);
+        }
+        return id;
+    }
+    void Destroy(int32_t id) { m_bp.DestroyProxy(id); }
+    void Move(int32_t id, const Box& tight, Vec2 d)
+    {
+        const bool buffered = m_bp.MoveProxy(id, tight, d);
+        if (m_track && buffered)
+        {
+            Mark(id);
+        }
+    }
+    void Touch(int32_t id)
+    {
+        m_bp.TouchProxy(id);
+        if (m_track)
+        {
+            Mark(id);
+        }
+    }
+    void UpdatePairs()
+    {
+        m_pairs.clear();
+        m_bp.FindPairs(m_pairs);
+    }
+    void ShiftOrigin(Vec2 o) { m_bp.ShiftOrigin(o); }
+    int32_t ProxyCount() const { return m_bp.GetProxyCount(); }
+    size_t PairCount() const { return m_pairs.size(); }
+    void PairKeys(std::vector<uint64_t>& keys) const
+    {
+        for (const quadphase::Pair& p : m_pairs)
+        {
+            keys.push_back(PairKey(int32_t(intptr_t(m_bp.GetUserData(p.a))), int32_t(intptr_t(m_bp.GetUserData(p.b)))));
+        }
+    }
+    void BeginTimedSteps()
+    {
+        if constexpr (std::is_same_v<BP, quadphase::QuadtreeBroadPhase>)
+        {
+            m_bp.ResetCounters();
+        }
+    }
+
+    BP& Get() { return m_bp; }
+
+    // Buffered-proxy tracking for the checking run: the live proxies that the next UpdatePairs will query.
+    void SetTracking(bool on) { m_track = on; }
+    std::vector<ProxyId> TakeBuffered()
+    {
+        std::vector<ProxyId> live;
+        for (ProxyId id : m_buffered)
+        {
+            m_flag[size_t(id)] = 0;
+            if (IsLive(id))
+            {
+                live.push_back(id);
+            }
+        }
+        m_buffered.clear();
+        return live;
+    }
+
+private:
+    bool IsLive(ProxyId id) const
+    {
+        if constexpr (std::is_same_v<BP, quadphase::QuadtreeBroadPhase>)
+        {
+            return m_bp.GetPool().IsLive(id);
+        }
+        else
+        {
+            return true;
+        }
+    }
+    void Mark(ProxyId id)
+    {
+        if (size_t(id) >= m_flag.size())
+        {
+            m_flag.resize(size_t(id) * 2 + 16, 0);
+        }
+        if (!m_flag[size_t(id)])
+        {
+            m_flag[size_t(id)] = 1;
+            m_buffered.push_back(id);
+        }
+    }
+
+    BP m_bp;
+    std::vector<quadphase::Pair> m_pairs;
+    bool m_track = false;
+    std::vector<uint8_t> m_flag;
+    std::vector<ProxyId> m_buffered;
+};
+
+/// Does nothing: measures the replay loop's own cost (op dispatch, id map, clock reads).
+class NullEngine
+{
+public:
+    int32_t Create(const Box&, int32_t recorded)
+    {
+        ++m_live;
+        return recorded;
+    }
+    void Destroy(int32_t) { --m_live; }
+    void Move(int32_t, const Box&, Vec2) {}
+    void Touch(int32_t) {}
+    void UpdatePairs() {}
+    void ShiftOrigin(Vec2) {}
+    int32_t ProxyCount() const { return m_live; }
+    size_t PairCount() const { return 0; }
+    void PairKeys(std::vector<uint64_t>&) const {}
+    void BeginTimedSteps() {}
+
+private:
+    int32_t m_live = 0;
+};
+
+// ---------------------------------------------------------------------------------------------------------------
+// Query statistics for the checking run (timed steps only).
+// ---------------------------------------------------------------------------------------------------------------
+struct QueryStats
+{
+    // Buckets of buffered proxies per UpdatePairs call, by the thresholds the sweep uses.
+    static constexpr int kBuckets = 8;
+    static constexpr int kEdges[kBuckets] = {0, 1, 64, 128, 256, 512, 1024, 4096}; // bucket b: [edge b, edge b+1)
+    int64_t callsIn[kBuckets] = {};
+    int64_t queriesIn[kBuckets] = {};
+
+    int64_t calls = 0;
+    int64_t queries = 0;    // buffered live proxies queried
+    int64_t cells = 0;      // cells in the query ranges over non-empty levels (approx.: our own coordinate map)
+    int64_t candidates = 0; // entries visited, the query itself excluded
+    int64_t overlaps = 0;   // candidates whose fat box overlaps (before the "both buffered" de-duplication)
+    int64_t pairs = 0;      // pairs reported
+    int64_t maxBuffered = 0; // largest call
+    std::vector<int32_t> callBuffered; // buffered proxies of every timed call, in order
+
+    template <typename Engine>
+    void BeforeUpdatePairs(Engine& engine, bool timed)
+    {
+        std::vector<ProxyId> buffered = engine.TakeBuffered();
+        if (!timed)
+        {
+            return;
+        }
+        const int64_t n = int64_t(buffered.size());
+        int b = kBuckets - 1;
+        while (b > 0 && n < kEdges[b])
+        {
+            --b;
+        }
+        callsIn[b] += 1;
+        queriesIn[b] += n;
+        calls += 1;
+        queries += n;
+        maxBuffered = std::max(maxBuffered, n);
+        callBuffered.push_back(int32_t(n));
+
+        const quadphase::QuadtreeBroadPhase& bp = engine.Get();
+        const quadphase::Pyramid& pyramid = bp.GetPyramid();
+        const int depth = pyramid.Depth();
+        const quadphase::Box bounds = pyramid.Bounds();
+        const double leaf = double(pyramid.LeafSize());
+        const int32_t maxCoord = (int32_t(1) << depth) - 1;
+        auto coord = [&](float v, float origin) {
+            const double t = std::floor((double(v) - double(origin)) / leaf);
+            return int32_t(t < 0.0 ? 0.0 : (t > double(maxCoord) ? double(maxCoord) : t));
+        };
+        for (ProxyId q : buffered)
+        {
+            const quadphase::Box qb = bp.GetFatBox(q);
+            const int32_t cx0 = coord(qb.minX, bounds.minX), cy0 = coord(qb.minY, bounds.minY);
+            const int32_t cx1 = coord(qb.maxX, bounds.minX), cy1 = coord(qb.maxY, bounds.minY);
+            for (int level = 0; level <= depth; ++level)
+            {
+                const int64_t inLevel = pyramid.LevelCount(level);
+                if (inLevel == 0)
+                {
+                    continue;
+                }
+                const int shift = depth - level;
+                const int64_t x0 = std::max(0, (cx0 >> shift) - 1), y0 = std::max(0, (cy0 >> shift) - 1);
+                const int64_t area = (int64_t(cx1 >> shift) - x0 + 1) * (int64_t(cy1 >> shift) - y0 + 1);
+                cells += std::min(area, inLevel);
+            }
+            pyramid.Visit(qb, [&](const quadphase::Entry& e) {
+                if (e.id != q)
+                {
+                    candidates += 1;
+                    overlaps += quadphase::Overlaps(e.box, qb) ? 1 : 0;
+                }
+                return true;
+            });
+        }
+    }
+    template <typename Engine>
+    void AfterUpdatePairs(Engine& engine, bool timed)
+    {
+        if (timed)
+        {
+            pairs += int64_t(engine.PairCount());
+        }
+    }
+};
+constexpr int QueryStats::kEdges[QueryStats::kBuckets];
+
+/// Cost of one parallel region (an OpenMP loop over `blocks` empty iterations at `threads`), median of many.
+double ParallelRegionMicros(int threads, omp_sched_t kind, int blocks)
+{
+    std::vector<double> samples;
+    volatile int sink = 0;
+    omp_set_schedule(kind, 0);
+    for (int round = 0; round < 41; ++round)
+    {
+        const int64_t t0 = NowNs();
+        for (int r = 0; r < 200; ++r)
+        {
+#pragma omp parallel for schedule(runtime) num_threads(threads)
+            for (int b = 0; b < blocks; ++b)
+            {
+                sink = sink + 0;
+            }
+        }
+        samples.push_back(double(NowNs() - t0) / 200.0 / 1000.0);
+    }
+    return Median(samples);
+}
+
+void Usage()
+{
+    std::fprintf(stderr,
+                 "usage: qp-replay --trace FILE [--steps-file FILE] [--threads N] [--schedule static|dynamic|guided|auto]\n"
+                 "                 [--chunk C] [--depth D|auto] [--threshold T] [--config k=v,k=v]... [--repeats R]\n"
+                 "                 [--check none|first|all] [--hashes-out FILE] [--compare-hashes FILE] [--brute]\n"
+                 "                 [--engine quadtree|null] [--json FILE] [--label TEXT] [--omp-overhead] [--per-call]\n");
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+    const Args args(argc, argv, {"brute", "omp-overhead", "help", "force-brute", "per-call"});
+    const std::vector<std::string> problems =
+        args.Problems({"trace", "steps-file", "threads", "schedule", "chunk", "depth", "threshold", "config", "repeats",
+                       "check", "hashes-out", "compare-hashes", "brute", "force-brute", "engine", "json", "label",
+                       "omp-overhead", "per-call", "help"});
+    if (args.Has("help") || !problems.empty() || (!args.Has("trace") && !args.Has("omp-overhead")))
+    {
+        for (const std::string& p : problems)
+        {
+            std::fprintf(stderr, "qp-replay: %s\n", p.c_str());
+        }
+        Usage();
+        return args.Has("help") ? 0 : 2;
+    }
+    PrintMachine(stdout);
+    const std::string jsonPath = args.Get("json");
+    const std::string label = args.Get("label");
+
+    if (args.Has("omp-overhead"))
+    {
+        // The fixed cost FindPairs pays to go parallel, for the threshold discussion.
+        const std::pair<const char*, omp_sched_t> kinds[] = {
+            {"static", omp_sched_static}, {"dynamic", omp_sched_dynamic}, {"guided", omp_sched_guided}};
+        for (int blocks : {1, 8, 64})
+        {
+            for (const auto& k : kinds)
+            {
+                const double us = ParallelRegionMicros(2, k.second, blocks);
+                std::printf("omp parallel region, 2 threads, %s, %d empty iterations: %.2f us\n", k.first, blocks, us);
+                JsonLine j;
+                j.Str("tool", "qp-replay").Str("kind", "omp_overhead").Str("label", label).Str("schedule", k.first)
+                    .Int("threads", 2).Int("blocks", blocks).Num("us", us);
+                AppendLine(jsonPath, j.Text());
+            }
+        }
+        if (!args.Has("trace"))
+        {
+            return 0;
+        }
+    }
+
+    LoadedTrace loaded;
+    LoadOrDie(args.Get("trace"), args.Get("steps-file"), loaded);
+    const StepIndex& index = loaded.steps;
+    std::printf("trace %s: scene %s size %d, %zu ops, %lld UpdatePairs calls, %d warm-up + %d timed steps, "
+                "%lld proxies at the end\n",
+                loaded.path.c_str(), index.scene.c_str(), index.size, loaded.trace.Ops().size(),
+                static_cast<long long>(loaded.trace.UpdatePairsCount()), index.warmup, index.steps,
+                static_cast<long long>(index.proxies));
+
+    Config base;
+    if (args.Has("threads"))
+        SetKey(base, "threads", args.Get("threads"));
+    if (args.Has("schedule"))
+        SetKey(base, "schedule", args.Get("schedule"));
+    if (args.Has("chunk"))
+        SetKey(base, "chunk", args.Get("chunk"));
+    if (args.Has("depth"))
+        SetKey(base, "depth", args.Get("depth"));
+    if (args.Has("threshold"))
+        SetKey(base, "threshold", args.Get("threshold"));
+    std::vector<Config> configs;
+    for (const std::string& spec : args.GetAll("config"))
+    {
+        Config c = base;
+        std::stringstream fields(spec);
+        std::string kv;
+        while (std::getline(fields, kv, ','))
+        {
+            const size_t eq = kv.find('=');
+            if (eq == std::string::npos)
+            {
+                std::fprintf(stderr, "qp-replay: --config '%s': expected key=value\n", spec.c_str());
+                return 2;
+            }
+            SetKey(c, kv.substr(0, eq), kv.substr(eq + 1));
+        }
+        configs.push_back(c);
+    }
+    if (configs.empty())
+    {
+        configs.push_back(base);
+    }
+    const int repeats = int(args.GetInt("repeats", 5));
+    const std::string engineName = args.Get("engine", "quadtree");
+    const std::string check = args.Get("check", "first");
+    const bool perCall = args.Has("per-call");
+
+    auto baseJson = [&](JsonLine& j, const char* kind) {
+        j.Str("tool", "qp-replay").Str("kind", kind).Str("label", label).Str("trace", loaded.name)
+            .Str("scene", index.scene).Int("size", index.size).Int("warmup", index.warmup);
+    };
+    auto configJson = [&](JsonLine& j, const Config& c) {
+        j.Int("threads", c.threads).Str("schedule", ScheduleName(c.schedule)).Int("chunk", c.chunk)
+            .Int("depth", c.depth).Int("threshold", c.parallelThreshold);
+    };
+
+    if (engineName == "null")
+    {
+        for (int r = 0; r < repeats; ++r)
+        {
+            NullEngine engine;
+            const RunResult result = Replay(loaded, engine);
+            JsonLine j;
+            baseJson(j, "run");
+            j.Str("engine", "null").Int("rep", r);
+            AddRun(j, result);
+            AppendLine(jsonPath, j.Text());
+            double total = 0;
+            for (const StepSample& s : result.steps)
+                total += double(s.ns);
+            std::printf("null engine rep %d: %.3f ms per step (replay loop overhead)\n", r, total / index.steps * 1e-6);
+        }
+        return 0;
+    }
+    if (engineName != "quadtree")
+    {
+        std::fprintf(stderr, "qp-replay: unknown engine '%s'\n", engineName.c_str());
+        return 2;
+    }
+
+    int64_t mismatches = 0;
+    // Untimed checking runs.
+    if (check != "none")
+    {
+        std::vector<CallHash> brute;
+        if (args.Has("brute"))
+        {
+            if (index.proxies > 20000 && !args.Has("force-brute"))
+            {
+                std::fprintf(stderr, "qp-replay: --brute on %lld proxies would take too long (--force-brute)\n",
+                             static_cast<long long>(index.proxies));
+                return 2;
+            }
+            CoreEngine<quadphase::BruteForceBroadPhase> engine;
+            Replay(loaded, engine, &brute);
+            std::printf("brute force: %zu UpdatePairs calls hashed\n", brute.size());
+        }
+        std::vector<CallHash> reference;
+        const std::string compareWith = args.Get("compare-hashes");
+        if (!compareWith.empty() && !LoadHashes(compareWith, reference))
+        {
+            std::fprintf(stderr, "qp-replay: cannot read hashes from %s\n", compareWith.c_str());
+            return 1;
+        }
+        for (size_t ci = 0; ci < configs.size(); ++ci)
+        {
+            if (check == "first" && ci > 0)
+            {
+                break;
+            }
+            const Config& c = configs[ci];
+            CoreEngine<quadphase::QuadtreeBroadPhase> engine(quadphase::FatPolicy{}, c);
+            engine.SetTracking(true);
+            QueryStats qs;
+            std::vector<CallHash> hashes;
+            Replay(loaded, engine, &hashes, &qs);
+            const quadphase::Stats st = engine.Get().GetStats();
+            int64_t bad = 0;
+            if (!brute.empty())
+            {
+                bad += CompareHashes(hashes, brute, "quadtree", "brute force");
+            }
+            if (!reference.empty())
+            {
+                bad += CompareHashes(hashes, reference, "quadtree", compareWith.c_str());
+            }
+            mismatches += bad;
+            if (ci == 0 && args.Has("hashes-out") && !SaveHashes(args.Get("hashes-out"), hashes))
+            {
+                std::fprintf(stderr, "qp-replay: cannot write %s\n", args.Get("hashes-out").c_str());
+                return 1;
+            }
+            const double q = double(std::max<int64_t>(1, qs.queries));
+            std::printf("check [%s]: %zu calls hashed, %s; depth %d, leaf %.3g m, %.3g buffered/call, %.3g cells, "
+                        "%.3g candidates, %.3g overlaps, %.3g pairs per query\n",
+                        Describe(c).c_str(), hashes.size(),
+                        bad != 0 ? "MISMATCH" : (brute.empty() && reference.empty() ? "not compared" : "identical"),
+                        st.depth, double(st.leafSize), double(qs.queries) / double(std::max<int64_t>(1, qs.calls)),
+                        double(qs.cells) / q, double(qs.candidates) / q, double(qs.overlaps) / q,
+                        double(qs.pairs) / q);
+            JsonLine j;
+            baseJson(j, "check");
+            configJson(j, c);
+            j.Int("calls_hashed", int64_t(hashes.size())).Int("mismatches", bad)
+                .Int("compared_brute", brute.empty() ? 0 : 1).Int("compared_file", reference.empty() ? 0 : 1)
+                .Int("depth_used", st.depth).Num("leaf_size", st.leafSize).Int("proxies", st.proxyCount)
+                .Int("occupied_cells", st.occupiedCells).Int("largest_cell", st.largestCell)
+                .Int("memory_bytes", st.memoryBytes).Int("timed_calls", qs.calls).Int("queries", qs.queries)
+                .Int("cells", qs.cells).Int("candidates", qs.candidates).Int("overlaps", qs.overlaps)
+                .Int("pairs", qs.pairs).Int("max_buffered", qs.maxBuffered);
+            std::vector<int64_t> callsIn(qs.callsIn, qs.callsIn + QueryStats::kBuckets);
+            std::vector<int64_t> queriesIn(qs.queriesIn, qs.queriesIn + QueryStats::kBuckets);
+            std::vector<int> edges(QueryStats::kEdges, QueryStats::kEdges + QueryStats::kBuckets);
+            j.Array("bucket_edges", edges).Array("bucket_calls", callsIn).Array("bucket_queries", queriesIn);
+            std::vector<int> perLevel(st.proxiesPerLevel.begin(), st.proxiesPerLevel.end());
+            j.Array("proxies_per_level", perLevel);
+            if (perCall)
+            {
+                j.Array("calls_buffered", qs.callBuffered);
+            }
+            AppendLine(jsonPath, j.Text());
+        }
+    }
+
+    // Timed runs: configurations interleaved within each round.
+    std::vector<std::vector<double>> perConfigMs(configs.size()), perConfigFindMs(configs.size());
+    std::vector<double> meanProxies(configs.size(), 0.0), pairsPerStep(configs.size(), 0.0);
+    for (int r = 0; r < repeats; ++r)
+    {
+        for (size_t ci = 0; ci < configs.size(); ++ci)
+        {
+            const Config& c = configs[ci];
+            auto engine = std::make_unique<CoreEngine<quadphase::QuadtreeBroadPhase>>(quadphase::FatPolicy{}, c);
+            const RunResult result = Replay(loaded, *engine);
+            const quadphase::Stats st = engine->Get().GetStats();
+            JsonLine j;
+            baseJson(j, "run");
+            j.Str("engine", "quadtree");
+            configJson(j, c);
+            j.Int("rep", r).Int("depth_used", st.depth).Int("parallel_calls", st.parallelCalls)
+                .Int("reinserts", st.reinserts).Int("proxies_queried", st.proxiesQueried)
+                .Int("rebuilds", st.rebuilds);
+            AddRun(j, result);
+            if (perCall)
+            {
+                j.Array("calls_ns", result.callNs);
+            }
+            AppendLine(jsonPath, j.Text());
+            double total = 0, find = 0, proxies = 0, pairs = 0;
+            for (const StepSample& s : result.steps)
+            {
+                total += double(s.ns);
+                find += double(s.findNs);
+                proxies += s.proxies;
+                pairs += double(s.pairs);
+            }
+            perConfigMs[ci].push_back(total / index.steps * 1e-6);
+            perConfigFindMs[ci].push_back(find / index.steps * 1e-6);
+            meanProxies[ci] = proxies / index.steps;
+            pairsPerStep[ci] = pairs / index.steps;
+        }
+    }
+    if (repeats > 0)
+    {
+        std::printf("%-62s %10s %10s %12s %12s\n", "configuration (median of repeats)", "ms/step", "find ms",
+                    "ns/proxy/step", "pairs/step");
+    }
+    for (size_t ci = 0; repeats > 0 && ci < configs.size(); ++ci)
+    {
+        const double ms = Median(perConfigMs[ci]);
+        std::printf("%-62s %10.3f %10.3f %12.1f %12.0f\n", Describe(configs[ci]).c_str(), ms,
+                    Median(perConfigFindMs[ci]), ms * 1e6 / std::max(1.0, meanProxies[ci]), pairsPerStep[ci]);
+    }
+    if (mismatches != 0)
+    {
+        std::fprintf(stderr, "qp-replay: %lld MISMATCHING UpdatePairs calls\n", static_cast<long long>(mismatches));
+        return 3;
+    }
+    return 0;
+}
