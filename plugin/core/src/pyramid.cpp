@@ -141,65 +141,54 @@ int64_t Pyramid::UpdateBatch(const std::vector<ProxyId>& ids, const Box* boxes, 
 {
     const int64_t count = int64_t(ids.size());
     m_plan.resize(size_t(count));
-    int64_t changes = 0;
-    int32_t outsideDelta = 0;
 
-#pragma omp parallel num_threads(threads) if (threads > 1)
-    {
-        // A. Place every box; rewrite in place the entries that stay in their cell. Each iteration touches only
-        //    its own id's location and entry.
-#pragma omp for schedule(static) reduction(+ : outsideDelta)
+    // A. Place one box; rewrite in place an entry that stays in its cell. Touches only that id's location and
+    //    entry. Returns the change of the outside count.
+    auto placeOne = [&](int64_t i) {
+        const ProxyId id = ids[size_t(i)];
+        const Box& box = boxes[id];
+        int level;
+        int32_t cell;
+        PlaceCell(box, level, cell);
+        Location& loc = m_location[size_t(id)];
+        const bool outside = !Inside(box);
+        const int32_t delta = int32_t(outside) - int32_t(loc.outside);
+        loc.outside = outside;
+        uint8_t kind = 2;
+        if (cell == loc.cell)
+        {
+            m_cells[size_t(cell)][size_t(loc.slot)].box = box;
+            kind = 0;
+        }
+        else if (level == loc.level)
+        {
+            kind = 1;
+        }
+        m_plan[size_t(i)] = Plan{loc.cell, cell, int8_t(level), kind};
+        return delta;
+    };
+    // B. Level changes are rare (a box changed size a lot); they also edit the shared level lists. One thread.
+    auto moveLevels = [&]() {
+        int64_t changes = 0;
         for (int64_t i = 0; i < count; ++i)
         {
-            const ProxyId id = ids[size_t(i)];
-            const Box& box = boxes[id];
-            int level;
-            int32_t cell;
-            PlaceCell(box, level, cell);
-            Location& loc = m_location[size_t(id)];
-            const bool outside = !Inside(box);
-            outsideDelta += int32_t(outside) - int32_t(loc.outside);
-            loc.outside = outside;
-            uint8_t kind = 2;
-            if (cell == loc.cell)
+            const Plan& plan = m_plan[size_t(i)];
+            changes += plan.kind != 0 ? 1 : 0;
+            if (plan.kind == 2)
             {
-                m_cells[size_t(cell)][size_t(loc.slot)].box = box;
-                kind = 0;
+                const ProxyId id = ids[size_t(i)];
+                const bool outside = m_location[size_t(id)].outside;
+                Remove(id);
+                Store(id, boxes[id], plan.toLevel, plan.toCell);
+                m_location[size_t(id)].outside = outside;
+                m_outsideCount += outside ? 1 : 0;
             }
-            else if (level == loc.level)
-            {
-                kind = 1;
-            }
-            m_plan[size_t(i)] = Plan{loc.cell, cell, int8_t(level), kind};
         }
-
-        // B. Level changes are rare (a box changed size a lot); they also edit the shared level lists.
-#pragma omp single
-        {
-            for (int64_t i = 0; i < count; ++i)
-            {
-                const Plan& plan = m_plan[size_t(i)];
-                if (plan.kind == 0)
-                {
-                    continue;
-                }
-                ++changes;
-                if (plan.kind == 2)
-                {
-                    const ProxyId id = ids[size_t(i)];
-                    const bool outside = m_location[size_t(id)].outside;
-                    Remove(id);
-                    Store(id, boxes[id], plan.toLevel, plan.toCell);
-                    m_location[size_t(id)].outside = outside;
-                    m_outsideCount += outside ? 1 : 0;
-                }
-            }
-        } // implicit barrier
-
-        // C and D. Cells are dealt to threads in runs of 16; every thread reads the whole plan in order and applies
-        // the operations of its own cells, so a cell's operations keep the plan's order whoever owns it.
-        const int team = omp_get_num_threads();
-        const int me = omp_get_thread_num();
+        return changes;
+    };
+    // C and D. Cells are dealt to threads in runs of 16; every thread reads the whole plan in order and applies
+    // the operations of its own cells, so a cell's operations keep the plan's order whoever owns it.
+    auto leaveCells = [&](int team, int me) {
         for (int64_t i = 0; i < count; ++i)
         {
             const Plan& plan = m_plan[size_t(i)];
@@ -208,7 +197,8 @@ int64_t Pyramid::UpdateBatch(const std::vector<ProxyId>& ids, const Box* boxes, 
                 RemoveFromCell(ids[size_t(i)]);
             }
         }
-#pragma omp barrier
+    };
+    auto joinCells = [&](int team, int me) {
         for (int64_t i = 0; i < count; ++i)
         {
             const Plan& plan = m_plan[size_t(i)];
@@ -221,6 +211,39 @@ int64_t Pyramid::UpdateBatch(const std::vector<ProxyId>& ids, const Box* boxes, 
                 loc.slot = int32_t(entries.size());
                 entries.push_back(Entry{boxes[id], id});
             }
+        }
+    };
+
+    int32_t outsideDelta = 0;
+    int64_t changes = 0;
+    if (threads <= 1)
+    {
+        // The same phases in the same order, without any OpenMP call: small batches (the UpdatePairs after a
+        // time-of-impact event) must not pay for a team.
+        for (int64_t i = 0; i < count; ++i)
+        {
+            outsideDelta += placeOne(i);
+        }
+        changes = moveLevels();
+        leaveCells(1, 0);
+        joinCells(1, 0);
+    }
+    else
+    {
+#pragma omp parallel num_threads(threads)
+        {
+#pragma omp for schedule(static) reduction(+ : outsideDelta)
+            for (int64_t i = 0; i < count; ++i)
+            {
+                outsideDelta += placeOne(i);
+            }
+#pragma omp single
+            changes = moveLevels(); // implicit barrier
+            const int team = omp_get_num_threads();
+            const int me = omp_get_thread_num();
+            leaveCells(team, me);
+#pragma omp barrier
+            joinCells(team, me);
         }
     }
     m_outsideCount += outsideDelta;
