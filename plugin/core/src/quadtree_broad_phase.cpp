@@ -22,7 +22,7 @@ double SecondsSince(Clock::time_point start)
 
 // Reports non-finite and inverted boxes. The box is stored anyway: Pyramid places any box somewhere (NaN maps to
 // cell 0), and Overlaps answers false for NaN, so a corrupted proxy gets no pairs and the others keep theirs.
-void CheckBox(const Box& b, const char* call, ProxyId id)
+__attribute__((noinline)) void ReportBadBox(const Box& b, const char* call, ProxyId id)
 {
     if (!IsFinite(b))
     {
@@ -33,6 +33,14 @@ void CheckBox(const Box& b, const char* call, ProxyId id)
     {
         ReportError(ErrorCode::InvertedBox, "%s: proxy %d got box (%g, %g)-(%g, %g) with min > max", call, int(id),
                     double(b.minX), double(b.minY), double(b.maxX), double(b.maxY));
+    }
+}
+
+inline void CheckBox(const Box& b, const char* call, ProxyId id)
+{
+    if (!IsSane(b))
+    {
+        ReportBadBox(b, call, id);
     }
 }
 

@@ -55,6 +55,13 @@ inline bool IsOrdered(const Box& b)
     return b.minX <= b.maxX && b.minY <= b.maxY;
 }
 
+/// True when the box is finite and ordered: the common case, tested without short-circuit branches.
+inline bool IsSane(const Box& b)
+{
+    return std::isfinite(b.minX) & std::isfinite(b.minY) & std::isfinite(b.maxX) & std::isfinite(b.maxY) &
+           (b.minX <= b.maxX) & (b.minY <= b.maxY);
+}
+
 /// Bitwise-equal comparison of the stored floats, used by validation.
 inline bool SameBits(const Box& a, const Box& b)
 {

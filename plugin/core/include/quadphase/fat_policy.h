@@ -41,14 +41,17 @@ inline bool Refatten(const FatPolicy& policy, Box& stored, const Box& tight, Vec
     fat.minY = dy < 0.0f ? fat.minY + dy : fat.minY;
     fat.maxY = dy < 0.0f ? fat.maxY : fat.maxY + dy;
 
-    if (Contains(stored, tight))
+    // Keep the stored box when it still contains the shape's box and lies inside the new fat box grown by a
+    // further 4 x extension. The eight comparisons are combined with & rather than &&: whether a body's box
+    // still fits is close to random from one body to the next, so short-circuit branches mispredict often.
+    const float h = 4.0f * r;
+    const Box huge{fat.minX - h, fat.minY - h, fat.maxX + h, fat.maxY + h};
+    const bool keep = (stored.minX <= tight.minX) & (stored.minY <= tight.minY) & (tight.maxX <= stored.maxX) &
+                      (tight.maxY <= stored.maxY) & (huge.minX <= stored.minX) & (huge.minY <= stored.minY) &
+                      (stored.maxX <= huge.maxX) & (stored.maxY <= huge.maxY);
+    if (keep)
     {
-        const float h = 4.0f * r;
-        const Box huge{fat.minX - h, fat.minY - h, fat.maxX + h, fat.maxY + h};
-        if (Contains(huge, stored))
-        {
-            return false;
-        }
+        return false;
     }
     stored = fat;
     return true;
