@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Install the build/test dependencies of quadphase on Debian/Ubuntu.
 # Idempotent: does nothing (and no `apt-get update`) when everything is installed.
+# Extra package names given as arguments are installed too (bench/install-deps.sh adds matplotlib).
 # Runs as root, or through sudo when available.
 set -euo pipefail
 
@@ -17,6 +18,7 @@ packages=(
     python3
     xz-utils
     debian-archive-keyring  # verifies the Debian archive when CMake fetches Box2D's source
+    "$@"
 )
 
 if ! command -v dpkg-query >/dev/null 2>&1 || ! command -v apt-get >/dev/null 2>&1; then

@@ -1,5 +1,7 @@
 #include "paper_quadtree.h"
 
+#include "quadphase/brute_force_broad_phase.h"
+
 #include <omp.h>
 
 #include <algorithm>
@@ -392,34 +394,12 @@ void PaperQuadtreeBroadPhase::TouchProxy(ProxyId id)
 
 void PaperQuadtreeBroadPhase::Query(const Box& box, QueryFn fn, void* context) const
 {
-    for (ProxyId p = 0; p < m_pool.IdBound(); ++p)
-    {
-        if (m_pool.IsLive(p) && Overlaps(m_pool.Fat(p), box) && !fn(context, p))
-        {
-            return;
-        }
-    }
+    ScanQuery(m_pool, box, fn, context);
 }
 
 void PaperQuadtreeBroadPhase::RayCast(const RayInput& input, RayCastFn fn, void* context) const
 {
-    SegmentTest segment(input);
-    for (ProxyId p = 0; p < m_pool.IdBound(); ++p)
-    {
-        if (!m_pool.IsLive(p) || !segment.MayCross(m_pool.Fat(p)))
-        {
-            continue;
-        }
-        const float value = fn(context, RayInput{input.p1, input.p2, segment.MaxFraction()}, p);
-        if (value == 0.0f)
-        {
-            return;
-        }
-        if (value > 0.0f)
-        {
-            segment.Clip(value);
-        }
-    }
+    ScanRayCast(m_pool, input, fn, context);
 }
 
 void PaperQuadtreeBroadPhase::ShiftOrigin(Vec2 newOrigin)

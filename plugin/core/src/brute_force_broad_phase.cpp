@@ -67,23 +67,23 @@ void BruteForceBroadPhase::FindPairs(std::vector<Pair>& out)
     m_pool.ReleaseWork(m_work);
 }
 
-void BruteForceBroadPhase::Query(const Box& box, QueryFn fn, void* context) const
+void ScanQuery(const ProxyPool& pool, const Box& box, QueryFn fn, void* context)
 {
-    for (ProxyId p = 0; p < m_pool.IdBound(); ++p)
+    for (ProxyId p = 0; p < pool.IdBound(); ++p)
     {
-        if (m_pool.IsLive(p) && Overlaps(m_pool.Fat(p), box) && !fn(context, p))
+        if (pool.IsLive(p) && Overlaps(pool.Fat(p), box) && !fn(context, p))
         {
             return;
         }
     }
 }
 
-void BruteForceBroadPhase::RayCast(const RayInput& input, RayCastFn fn, void* context) const
+void ScanRayCast(const ProxyPool& pool, const RayInput& input, RayCastFn fn, void* context)
 {
     SegmentTest segment(input);
-    for (ProxyId p = 0; p < m_pool.IdBound(); ++p)
+    for (ProxyId p = 0; p < pool.IdBound(); ++p)
     {
-        if (!m_pool.IsLive(p) || !segment.MayCross(m_pool.Fat(p)))
+        if (!pool.IsLive(p) || !segment.MayCross(pool.Fat(p)))
         {
             continue;
         }
@@ -97,6 +97,16 @@ void BruteForceBroadPhase::RayCast(const RayInput& input, RayCastFn fn, void* co
             segment.Clip(value);
         }
     }
+}
+
+void BruteForceBroadPhase::Query(const Box& box, QueryFn fn, void* context) const
+{
+    ScanQuery(m_pool, box, fn, context);
+}
+
+void BruteForceBroadPhase::RayCast(const RayInput& input, RayCastFn fn, void* context) const
+{
+    ScanRayCast(m_pool, input, fn, context);
 }
 
 void BruteForceBroadPhase::ShiftOrigin(Vec2 newOrigin)

@@ -10,6 +10,10 @@
 namespace quadphase
 {
 
+/// Query and RayCast by testing every live proxy of `pool`, in id order (BroadPhaseInterface's semantics).
+void ScanQuery(const ProxyPool& pool, const Box& box, QueryFn fn, void* context);
+void ScanRayCast(const ProxyPool& pool, const RayInput& input, RayCastFn fn, void* context);
+
 /// Same semantics as QuadtreeBroadPhase (see BroadPhaseInterface) with the simplest possible search: every query
 /// tests every live proxy. It shares ProxyPool, so for the same calls it hands out the same ids.
 class BruteForceBroadPhase final : public BroadPhaseInterface
