@@ -58,8 +58,9 @@ inline bool IsOrdered(const Box& b)
 /// True when the box is finite and ordered: the common case, tested without short-circuit branches.
 inline bool IsSane(const Box& b)
 {
-    return std::isfinite(b.minX) & std::isfinite(b.minY) & std::isfinite(b.maxX) & std::isfinite(b.maxY) &
-           (b.minX <= b.maxX) & (b.minY <= b.maxY);
+    // int operands: & on bools is what is meant, and clang warns about it otherwise.
+    return (int(std::isfinite(b.minX)) & int(std::isfinite(b.minY)) & int(std::isfinite(b.maxX)) &
+            int(std::isfinite(b.maxY)) & int(b.minX <= b.maxX) & int(b.minY <= b.maxY)) != 0;
 }
 
 /// Bitwise-equal comparison of the stored floats, used by validation.

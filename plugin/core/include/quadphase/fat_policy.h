@@ -46,10 +46,10 @@ inline bool Refatten(const FatPolicy& policy, Box& stored, const Box& tight, Vec
     // still fits is close to random from one body to the next, so short-circuit branches mispredict often.
     const float h = 4.0f * r;
     const Box huge{fat.minX - h, fat.minY - h, fat.maxX + h, fat.maxY + h};
-    const bool keep = (stored.minX <= tight.minX) & (stored.minY <= tight.minY) & (tight.maxX <= stored.maxX) &
-                      (tight.maxY <= stored.maxY) & (huge.minX <= stored.minX) & (huge.minY <= stored.minY) &
-                      (stored.maxX <= huge.maxX) & (stored.maxY <= huge.maxY);
-    if (keep)
+    const int keep = int(stored.minX <= tight.minX) & int(stored.minY <= tight.minY) &
+                     int(tight.maxX <= stored.maxX) & int(tight.maxY <= stored.maxY) & int(huge.minX <= stored.minX) &
+                     int(huge.minY <= stored.minY) & int(stored.maxX <= huge.maxX) & int(stored.maxY <= huge.maxY);
+    if (keep != 0)
     {
         return false;
     }
