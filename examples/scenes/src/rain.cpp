@@ -76,22 +76,7 @@ Scene BuildRain(int size, uint32_t seed)
         fd.density = 1.0f;
         fd.friction = 0.6f;
         fd.restitution = 0.1f;
-        if (rng.Uniform01() < 0.5f)
-        {
-            b2CircleShape circle;
-            circle.m_radius = rng.Uniform(0.2f, 0.5f);
-            fd.shape = &circle;
-            body->CreateFixture(&fd);
-        }
-        else
-        {
-            b2PolygonShape box;
-            const float hx = rng.Uniform(0.2f, 0.45f);
-            const float hy = rng.Uniform(0.2f, 0.45f);
-            box.SetAsBox(hx, hy);
-            fd.shape = &box;
-            body->CreateFixture(&fd);
-        }
+        AddRandomCircleOrBox(body, fd, rng, 0.2f, 0.5f, 0.2f, 0.45f);
     }
     return scene;
 }

@@ -57,4 +57,27 @@ inline b2Fixture* AddBoxFixture(b2Body* body, float hx, float hy, b2Vec2 center,
 /// bottom row, bottom-left box centred at (x0, y0).
 void AddBoxPyramid(b2World& world, int base, float x0, float y0);
 
+/// Gives `body` one fixture with `fd`'s material: a circle of radius in [rMin, rMax) or a box with half-extents in
+/// [hMin, hMax), each with probability 1/2. Draws from `rng` in a fixed order (choice, then sizes).
+inline void AddRandomCircleOrBox(b2Body* body, b2FixtureDef fd, Rng& rng, float rMin, float rMax, float hMin,
+                                 float hMax)
+{
+    if (rng.Uniform01() < 0.5f)
+    {
+        b2CircleShape circle;
+        circle.m_radius = rng.Uniform(rMin, rMax);
+        fd.shape = &circle;
+        body->CreateFixture(&fd);
+    }
+    else
+    {
+        b2PolygonShape box;
+        const float hx = rng.Uniform(hMin, hMax);
+        const float hy = rng.Uniform(hMin, hMax);
+        box.SetAsBox(hx, hy);
+        fd.shape = &box;
+        body->CreateFixture(&fd);
+    }
+}
+
 } // namespace quadphase::scenes::detail

@@ -70,22 +70,7 @@ Scene BuildSparse(int size, uint32_t seed)
         fd.density = 1.0f;
         fd.friction = 0.2f;
         fd.restitution = 1.0f;
-        if (rng.Uniform01() < 0.5f)
-        {
-            b2CircleShape circle;
-            circle.m_radius = rng.Uniform(0.5f, 1.0f);
-            fd.shape = &circle;
-            body->CreateFixture(&fd);
-        }
-        else
-        {
-            b2PolygonShape box;
-            const float hx = rng.Uniform(0.4f, 1.0f);
-            const float hy = rng.Uniform(0.4f, 1.0f);
-            box.SetAsBox(hx, hy);
-            fd.shape = &box;
-            body->CreateFixture(&fd);
-        }
+        AddRandomCircleOrBox(body, fd, rng, 0.5f, 1.0f, 0.4f, 1.0f);
     }
 
     for (int i = 0; i < rocks; ++i)
