@@ -18,6 +18,7 @@ packages=(
     python3
     xz-utils
     debian-archive-keyring  # verifies the Debian archive when CMake fetches Box2D's source
+    libchipmunk-dev libbullet-dev  # bench/: Chipmunk2D's spatial hash and BB tree, Bullet's btDbvtBroadphase (replay comparison)
     "$@"
 )
 

@@ -30,6 +30,7 @@
 #include "quadphase/brute_force_broad_phase.h"
 #include "quadphase/config.h"
 #include "quadphase/quadtree_broad_phase.h"
+#include "heap_bytes.h"
 #include "replay_common.h"
 
 namespace
@@ -601,8 +602,10 @@ int main(int argc, char** argv)
         for (size_t ci = 0; ci < configs.size(); ++ci)
         {
             const Config& c = configs[ci];
+            const int64_t heap0 = HeapBytes();
             auto engine = std::make_unique<CoreEngine<quadphase::QuadtreeBroadPhase>>(quadphase::FatPolicy{}, c);
             const RunResult result = Replay(loaded, *engine);
+            const int64_t heap = HeapBytes() - heap0; // what the engine holds after the whole trace (heap_bytes.h)
             const quadphase::Stats st = engine->Get().GetStats();
             JsonLine j;
             baseJson(j, "run");
@@ -612,7 +615,8 @@ int main(int argc, char** argv)
             // timing is off, so with deferred maintenance this is the batched re-placement inside FindPairs).
             j.Int("rep", r).Int("depth_used", st.depth).Int("parallel_calls", st.parallelCalls)
                 .Int("reinserts", st.reinserts).Int("proxies_queried", st.proxiesQueried)
-                .Int("rebuilds", st.rebuilds).Num("replace_s", st.updateSeconds);
+                .Int("rebuilds", st.rebuilds).Num("replace_s", st.updateSeconds).Int("heap_bytes", heap)
+                .Num("bytes_per_proxy", double(heap) / std::max(1, engine->ProxyCount()));
             AddRun(j, result);
             if (perCall)
             {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "box2d/b2_broad_phase.h"
+#include "heap_bytes.h"
 #include "replay_common.h"
 
 namespace
@@ -115,11 +116,14 @@ int main(int argc, char** argv)
     std::vector<double> ms;
     for (int r = 0; r < repeats; ++r)
     {
+        const int64_t heap0 = HeapBytes();
         auto engine = std::make_unique<StockEngine>();
         const RunResult result = Replay(loaded, *engine);
+        const int64_t heap = HeapBytes() - heap0; // what the engine holds after the whole trace (heap_bytes.h)
         JsonLine j;
         baseJson(j, "run");
-        j.Int("rep", r).Int("tree_height", engine->Get().GetTreeHeight());
+        j.Int("rep", r).Int("tree_height", engine->Get().GetTreeHeight()).Int("heap_bytes", heap)
+            .Num("bytes_per_proxy", double(heap) / std::max(1, engine->ProxyCount()));
         AddRun(j, result);
         AppendLine(jsonPath, j.Text());
         double total = 0, proxies = 0;

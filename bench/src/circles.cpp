@@ -1,0 +1,508 @@
+// qp-circles: the paper's protocol. The largest number of circles whose collision detection (broadphase plus
+// the circle-circle test of its candidate pairs) stays under 20 ms per frame, median of 3 repeats.
+//
+//   qp-circles --engine pairwise|paper|stock|quadtree [--threads T] [--depth D|auto] [--budget-ms 20]
+//              [--repeats 3] [--frames 5] [--warmup 3] [--start 1000] [--precision 0.03] [--max-seconds 60]
+//              [--max-n 4000000] [--seed 1] [--json FILE] [--label TEXT]
+//
+// The world (the paper gives no sizes; this is our reading, stated in bench/README.md): circles of radius 0.5
+// m at an area fraction of 0.15 in a square box whose side grows with N (the density of the particles scene),
+// each moving at a random speed of 1-5 m/s in a random direction, bouncing off the walls, 60 frames per
+// second. A frame moves every circle (not timed), then the timed collision detection:
+//   pairwise  the paper's n^2 loop: every pair of circles is tested (no broadphase);
+//   paper     the paper's design (bench/baselines), --depth = its level 4..9 (auto: leaves at least twice the
+//             circle's diameter), --threads 1 = its sequential quadtree, 2 = static schedule; exact boxes (no
+//             margins), every frame inserts everything, reports all pairs found; each is circle-tested;
+//   stock     Box2D 2.4.1's b2BroadPhase (MoveProxy of every circle, UpdatePairs);
+//   quadtree  quadphase::QuadtreeBroadPhase (--depth, --threads) through the same calls.
+// stock and quadtree keep Box2D's persistent pair list, as b2ContactManager does: new pairs from UpdatePairs
+// are added (duplicates dropped), every listed pair whose fat boxes no longer overlap is dropped, and every
+// listed pair is circle-tested; all of that is in the frame time, the same code for both.
+//
+// Search: N doubles from --start while it passes, then bisects until the bracket is within --precision; an
+// evaluation fails early when one frame takes more than 5x the budget. --max-seconds caps the search (the
+// result is then flagged "capped" and is the largest N that passed).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <unordered_set>
+#include <vector>
+
+#include "box2d/b2_broad_phase.h"
+#include "paper_quadtree.h"
+#include "quadphase/quadtree_broad_phase.h"
+#include "replay_common.h"
+
+namespace
+{
+
+using namespace qpbench;
+
+constexpr float kRadius = 0.5f;
+constexpr float kAreaFraction = 0.15f;
+constexpr float kDt = 1.0f / 60.0f;
+
+struct Circles
+{
+    std::vector<float> x, y, vx, vy;
+    float side = 0.0f;
+
+    Circles(int n, uint32_t seed)
+    {
+        side = std::sqrt(float(n) * 3.14159265f * kRadius * kRadius / kAreaFraction);
+        uint64_t state = seed * 0x9E3779B97F4A7C15ull + 1;
+        auto next = [&]()
+        {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            return float(state >> 40) * (1.0f / 16777216.0f);
+        };
+        x.resize(size_t(n));
+        y.resize(size_t(n));
+        vx.resize(size_t(n));
+        vy.resize(size_t(n));
+        for (int i = 0; i < n; ++i)
+        {
+            x[size_t(i)] = kRadius + next() * (side - 2 * kRadius);
+            y[size_t(i)] = kRadius + next() * (side - 2 * kRadius);
+            const float speed = 1.0f + 4.0f * next();
+            const float angle = 6.2831853f * next();
+            vx[size_t(i)] = speed * std::cos(angle);
+            vy[size_t(i)] = speed * std::sin(angle);
+        }
+    }
+    int Count() const { return int(x.size()); }
+    Box Tight(int i) const
+    {
+        return Box{x[size_t(i)] - kRadius, y[size_t(i)] - kRadius, x[size_t(i)] + kRadius,
+                   y[size_t(i)] + kRadius};
+    }
+    void Move()
+    {
+        for (size_t i = 0; i < x.size(); ++i)
+        {
+            x[i] += vx[i] * kDt;
+            y[i] += vy[i] * kDt;
+            if ((x[i] < kRadius && vx[i] < 0) || (x[i] > side - kRadius && vx[i] > 0))
+            {
+                vx[i] = -vx[i];
+            }
+            if ((y[i] < kRadius && vy[i] < 0) || (y[i] > side - kRadius && vy[i] > 0))
+            {
+                vy[i] = -vy[i];
+            }
+        }
+    }
+    bool Touching(int a, int b) const
+    {
+        const float dx = x[size_t(a)] - x[size_t(b)], dy = y[size_t(a)] - y[size_t(b)];
+        return dx * dx + dy * dy < 4.0f * kRadius * kRadius;
+    }
+};
+
+/// One engine's collision detection over a set of circles. Frame() is the timed part; returns touching pairs.
+class Detector
+{
+public:
+    virtual ~Detector() = default;
+    virtual int64_t Frame(const Circles& c) = 0;
+};
+
+class Pairwise final : public Detector
+{
+public:
+    int64_t Frame(const Circles& c) override
+    {
+        const int n = c.Count();
+        const float d2 = 4.0f * kRadius * kRadius;
+        int64_t hits = 0;
+        for (int i = 0; i < n; ++i)
+        {
+            const float xi = c.x[size_t(i)], yi = c.y[size_t(i)];
+            for (int j = i + 1; j < n; ++j)
+            {
+                const float dx = xi - c.x[size_t(j)], dy = yi - c.y[size_t(j)];
+                hits += dx * dx + dy * dy < d2 ? 1 : 0;
+            }
+        }
+        return hits;
+    }
+};
+
+class Paper final : public Detector
+{
+public:
+    Paper(const Circles& c, int levels, int threads)
+        : m_bp(levels, Box{0, 0, c.side, c.side}, threads, quadphase::Schedule::Static,
+               quadphase::bench::PaperPairReport::All, quadphase::FatPolicy{0.0f, 0.0f})
+    {
+        for (int i = 0; i < c.Count(); ++i)
+        {
+            m_bp.CreateProxy(c.Tight(i), reinterpret_cast<void*>(intptr_t(i)));
+        }
+    }
+    int64_t Frame(const Circles& c) override
+    {
+        for (int i = 0; i < c.Count(); ++i)
+        {
+            m_bp.MoveProxy(i, c.Tight(i), quadphase::Vec2{0, 0});
+        }
+        m_pairs.clear();
+        m_bp.FindPairs(m_pairs);
+        int64_t hits = 0;
+        for (const quadphase::Pair& p : m_pairs)
+        {
+            hits += c.Touching(p.a, p.b) ? 1 : 0; // ids are 0..n-1 in creation order
+        }
+        return hits;
+    }
+
+private:
+    quadphase::bench::PaperQuadtreeBroadPhase m_bp;
+    std::vector<quadphase::Pair> m_pairs;
+};
+
+/// Box2D's persistent pair list (b2ContactManager's role), shared by stock and quadtree.
+class PairList
+{
+public:
+    void Add(int32_t a, int32_t b)
+    {
+        if (a > b)
+        {
+            std::swap(a, b);
+        }
+        if (m_keys.insert(PairKey(a, b)).second)
+        {
+            m_pairs.emplace_back(a, b);
+        }
+    }
+    /// Drops the pairs whose fat boxes no longer overlap, circle-tests the others.
+    template <typename FatOverlap>
+    int64_t Collide(const Circles& c, FatOverlap&& overlap)
+    {
+        int64_t hits = 0;
+        for (size_t i = 0; i < m_pairs.size();)
+        {
+            const auto p = m_pairs[i];
+            if (!overlap(p.first, p.second))
+            {
+                m_keys.erase(PairKey(p.first, p.second));
+                m_pairs[i] = m_pairs.back();
+                m_pairs.pop_back();
+                continue;
+            }
+            hits += c.Touching(p.first, p.second) ? 1 : 0;
+            ++i;
+        }
+        return hits;
+    }
+
+private:
+    std::unordered_set<uint64_t> m_keys;
+    std::vector<std::pair<int32_t, int32_t>> m_pairs;
+};
+
+class Stock final : public Detector
+{
+public:
+    explicit Stock(const Circles& c)
+    {
+        for (int i = 0; i < c.Count(); ++i)
+        {
+            m_ids.push_back(m_bp.CreateProxy(ToAabb(c.Tight(i)), reinterpret_cast<void*>(intptr_t(i))));
+        }
+        m_last = c.x;
+        m_lastY = c.y;
+    }
+    int64_t Frame(const Circles& c) override
+    {
+        for (int i = 0; i < c.Count(); ++i)
+        {
+            const b2Vec2 d(c.x[size_t(i)] - m_last[size_t(i)], c.y[size_t(i)] - m_lastY[size_t(i)]);
+            m_bp.MoveProxy(m_ids[size_t(i)], ToAabb(c.Tight(i)), d);
+            m_last[size_t(i)] = c.x[size_t(i)];
+            m_lastY[size_t(i)] = c.y[size_t(i)];
+        }
+        m_bp.UpdatePairs(this);
+        return m_list.Collide(c, [&](int32_t a, int32_t b)
+                              { return m_bp.TestOverlap(m_ids[size_t(a)], m_ids[size_t(b)]); });
+    }
+    void AddPair(void* a, void* b) { m_list.Add(int32_t(intptr_t(a)), int32_t(intptr_t(b))); }
+
+private:
+    static b2AABB ToAabb(const Box& b)
+    {
+        b2AABB a;
+        a.lowerBound.Set(b.minX, b.minY);
+        a.upperBound.Set(b.maxX, b.maxY);
+        return a;
+    }
+    b2BroadPhase m_bp;
+    std::vector<int32_t> m_ids;
+    std::vector<float> m_last, m_lastY;
+    PairList m_list;
+};
+
+class Quadtree final : public Detector
+{
+public:
+    Quadtree(const Circles& c, int depth, int threads)
+        : m_bp(quadphase::FatPolicy{}, MakeConfig(depth, threads))
+    {
+        for (int i = 0; i < c.Count(); ++i)
+        {
+            m_ids.push_back(m_bp.CreateProxy(c.Tight(i), reinterpret_cast<void*>(intptr_t(i))));
+        }
+        m_last = c.x;
+        m_lastY = c.y;
+    }
+    int64_t Frame(const Circles& c) override
+    {
+        for (int i = 0; i < c.Count(); ++i)
+        {
+            const quadphase::Vec2 d{c.x[size_t(i)] - m_last[size_t(i)], c.y[size_t(i)] - m_lastY[size_t(i)]};
+            m_bp.MoveProxy(m_ids[size_t(i)], c.Tight(i), d);
+            m_last[size_t(i)] = c.x[size_t(i)];
+            m_lastY[size_t(i)] = c.y[size_t(i)];
+        }
+        m_pairs.clear();
+        m_bp.FindPairs(m_pairs);
+        for (const quadphase::Pair& p : m_pairs)
+        {
+            m_list.Add(int32_t(intptr_t(m_bp.GetUserData(p.a))), int32_t(intptr_t(m_bp.GetUserData(p.b))));
+        }
+        return m_list.Collide(c,
+                              [&](int32_t a, int32_t b) {
+                                  return quadphase::Overlaps(m_bp.GetFatBox(m_ids[size_t(a)]),
+                                                             m_bp.GetFatBox(m_ids[size_t(b)]));
+                              });
+    }
+
+private:
+    static quadphase::Config MakeConfig(int depth, int threads)
+    {
+        quadphase::Config config;
+        config.depth = depth;
+        config.threads = threads;
+        return config;
+    }
+    quadphase::QuadtreeBroadPhase m_bp;
+    std::vector<int32_t> m_ids;
+    std::vector<float> m_last, m_lastY;
+    std::vector<quadphase::Pair> m_pairs;
+    PairList m_list;
+};
+
+struct Settings
+{
+    std::string engine;
+    int threads = 1;
+    int depth = -1; // -1: auto
+    double budgetMs = 20.0;
+    int repeats = 3, frames = 5, warmup = 3;
+    uint32_t seed = 1;
+};
+
+int PaperAutoLevels(float side)
+{
+    int levels = 1;
+    for (int l = 1; l <= quadphase::bench::PaperQuadtreeBroadPhase::kMaxLevels; ++l)
+    {
+        if (side / float(1 << (l - 1)) >= 4.0f * kRadius)
+        {
+            levels = l;
+        }
+    }
+    return levels;
+}
+
+std::unique_ptr<Detector> Make(const Settings& s, const Circles& c)
+{
+    if (s.engine == "pairwise")
+        return std::make_unique<Pairwise>();
+    if (s.engine == "paper")
+        return std::make_unique<Paper>(c, s.depth < 0 ? PaperAutoLevels(c.side) : s.depth, s.threads);
+    if (s.engine == "stock")
+        return std::make_unique<Stock>(c);
+    return std::make_unique<Quadtree>(c, s.depth, s.threads);
+}
+
+struct Evaluation
+{
+    double medianMs = 0.0; // median over repeats of the mean frame time
+    int64_t touching = 0;
+    bool aborted = false;
+};
+
+Evaluation Evaluate(const Settings& s, int n)
+{
+    std::vector<double> perRepeat;
+    Evaluation e;
+    for (int r = 0; r < s.repeats; ++r)
+    {
+        Circles c(n, s.seed + uint32_t(r));
+        std::unique_ptr<Detector> d = Make(s, c);
+        for (int f = 0; f < s.warmup; ++f)
+        {
+            c.Move();
+            const int64_t t0 = NowNs();
+            d->Frame(c);
+            if (double(NowNs() - t0) * 1e-6 > 5.0 * s.budgetMs)
+            {
+                e.aborted = true;
+                break;
+            }
+        }
+        double total = 0.0;
+        for (int f = 0; f < s.frames && !e.aborted; ++f)
+        {
+            c.Move();
+            const int64_t t0 = NowNs();
+            e.touching = d->Frame(c);
+            const double ms = double(NowNs() - t0) * 1e-6;
+            total += ms;
+            e.aborted = ms > 5.0 * s.budgetMs;
+        }
+        if (e.aborted)
+        {
+            e.medianMs = 5.0 * s.budgetMs;
+            return e;
+        }
+        perRepeat.push_back(total / s.frames);
+    }
+    e.medianMs = Median(perRepeat);
+    return e;
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+    const Args args(argc, argv, {"help"});
+    const std::vector<std::string> problems =
+        args.Problems({"engine", "threads", "depth", "budget-ms", "repeats", "frames", "warmup", "start",
+                       "precision", "max-seconds", "max-n", "seed", "json", "label", "help"});
+    Settings s;
+    s.engine = args.Get("engine");
+    const bool knownEngine =
+        s.engine == "pairwise" || s.engine == "paper" || s.engine == "stock" || s.engine == "quadtree";
+    if (args.Has("help") || !problems.empty() || !knownEngine)
+    {
+        for (const std::string& p : problems)
+        {
+            std::fprintf(stderr, "qp-circles: %s\n", p.c_str());
+        }
+        if (!knownEngine && args.Has("engine"))
+        {
+            std::fprintf(stderr, "qp-circles: unknown engine '%s'\n", s.engine.c_str());
+        }
+        std::fprintf(
+            stderr,
+            "usage: qp-circles --engine pairwise|paper|stock|quadtree [--threads T] [--depth D|auto]\n"
+            "       [--budget-ms 20] [--repeats 3] [--frames 5] [--warmup 3] [--start 1000]\n"
+            "       [--precision 0.03] [--max-seconds 60] [--max-n N] [--seed S] [--json FILE]\n");
+        return args.Has("help") ? 0 : 2;
+    }
+    s.threads = int(args.GetInt("threads", 1));
+    const std::string depth = args.Get("depth", "auto");
+    s.depth = depth == "auto" ? -1 : std::atoi(depth.c_str());
+    s.budgetMs = std::atof(args.Get("budget-ms", "20").c_str());
+    s.repeats = int(args.GetInt("repeats", 3));
+    s.frames = int(args.GetInt("frames", 5));
+    s.warmup = int(args.GetInt("warmup", 3));
+    s.seed = uint32_t(args.GetInt("seed", 1));
+    const double precision = std::atof(args.Get("precision", "0.03").c_str());
+    const double maxSeconds = std::atof(args.Get("max-seconds", "60").c_str());
+    const long maxN = args.GetInt("max-n", 4000000);
+    if (s.repeats < 1 || s.frames < 1 || s.budgetMs <= 0 || precision <= 0 || s.threads < 0 ||
+        (s.engine == "paper" && s.depth != -1 && (s.depth < 1 || s.depth > 9)))
+    {
+        std::fprintf(stderr, "qp-circles: bad option value (paper depth: 1..9 or auto)\n");
+        return 2;
+    }
+    const std::string jsonPath = args.Get("json");
+    auto base = [&](JsonLine& j, const char* kind)
+    {
+        j.Str("tool", "qp-circles")
+            .Str("kind", kind)
+            .Str("label", args.Get("label"))
+            .Str("engine", s.engine)
+            .Int("threads", s.threads)
+            .Int("depth", s.depth)
+            .Num("budget_ms", s.budgetMs)
+            .Int("repeats", s.repeats)
+            .Int("frames", s.frames);
+    };
+
+    const int64_t start = NowNs();
+    auto elapsed = [&] { return double(NowNs() - start) * 1e-9; };
+    long lo = 0, hi = 0; // largest pass, smallest fail
+    long n = std::max(2L, args.GetInt("start", 1000));
+    bool capped = false;
+    int evaluations = 0;
+    auto evaluate = [&](long count)
+    {
+        const Evaluation e = Evaluate(s, int(count));
+        ++evaluations;
+        const bool pass = !e.aborted && e.medianMs < s.budgetMs;
+        JsonLine j;
+        base(j, "eval");
+        j.Int("n", count)
+            .Num("ms", e.medianMs)
+            .Int("pass", pass ? 1 : 0)
+            .Int("aborted", e.aborted ? 1 : 0)
+            .Int("touching", e.touching)
+            .Num("elapsed_s", elapsed());
+        AppendLine(jsonPath, j.Text());
+        std::printf("  %s n=%ld: %.2f ms/frame%s %s\n", s.engine.c_str(), count, e.medianMs,
+                    e.aborted ? " (aborted)" : "", pass ? "pass" : "fail");
+        std::fflush(stdout);
+        return pass;
+    };
+    while (hi == 0)
+    {
+        if (n > maxN || elapsed() > maxSeconds)
+        {
+            capped = true;
+            break;
+        }
+        if (evaluate(n))
+        {
+            lo = n;
+            n *= 2;
+        }
+        else
+        {
+            hi = n;
+        }
+    }
+    while (hi != 0 && lo != 0 && double(hi - lo) > precision * double(lo))
+    {
+        if (elapsed() > maxSeconds)
+        {
+            capped = true;
+            break;
+        }
+        const long mid = (lo + hi) / 2;
+        if (evaluate(mid))
+            lo = mid;
+        else
+            hi = mid;
+    }
+    JsonLine j;
+    base(j, "result");
+    j.Int("n_max", lo)
+        .Int("n_fail", hi)
+        .Int("capped", capped ? 1 : 0)
+        .Int("evaluations", evaluations)
+        .Num("seconds", elapsed());
+    AppendLine(jsonPath, j.Text());
+    std::printf("%s threads=%d depth=%s: %ld circles under %.1f ms per frame%s (%d evaluations, %.0f s)\n",
+                s.engine.c_str(), s.threads, depth.c_str(), lo, s.budgetMs, capped ? " (capped)" : "",
+                evaluations, elapsed());
+    return 0;
+}
