@@ -1,0 +1,525 @@
+// qp-accuracy-stock / qp-accuracy-quadphase / qp-accuracy-paper: one scene, one broadphase configuration, one
+// set of step settings; prints ONE JSON line with the run time per simulated second and the error measures
+// (bench/accuracy/README.md). The same source is compiled against the three Box2D builds:
+//   QUADPHASE_VARIANT_STOCK      stock Box2D 2.4.1 (b2DynamicTree)
+//   QUADPHASE_VARIANT_QUADPHASE  quadphase (--depth, --threads)
+//   QP_ACCURACY_VARIANT_PAPER    the paper's static quadtree, approximate (--levels, --threads)
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <functional>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "contact_check.h"
+#include "qp_accuracy_build_info.h"
+#include "quadphase_scenes/scenes.h"
+
+#if defined(QUADPHASE_VARIANT_QUADPHASE)
+#include "quadphase/box2d.h"
+static const char* const kBuild = "quadphase";
+#elif defined(QP_ACCURACY_VARIANT_PAPER)
+#include "quadphase_paper/paper_settings.h"
+static const char* const kBuild = "paper";
+#elif defined(QUADPHASE_VARIANT_STOCK)
+static const char* const kBuild = "stock";
+#else
+#error "compile with one of QUADPHASE_VARIANT_STOCK, QUADPHASE_VARIANT_QUADPHASE, QP_ACCURACY_VARIANT_PAPER"
+#endif
+
+namespace
+{
+
+namespace qs = quadphase::scenes;
+namespace qa = quadphase::accuracy;
+
+// The scenes' per-step hooks (spawning, relaunching) count steps of the scenes' own 60 Hz clock.
+constexpr int kSceneHz = 60;
+
+struct Options
+{
+    std::string scene;
+    int size = -1;
+    uint32_t seed = 1;
+    double seconds = 10.0;
+    int hz = 60;
+    int velocityIterations = 8;
+    int positionIterations = 3;
+    std::string depth = "auto";  // quadphase: auto | N | auto+K | auto-K
+    std::string levels = "auto"; // paper: auto | N | auto+K | auto-K
+    int threads = 1;
+    int checkEvery = 1;
+    double sampleEvery = 0.5;
+    std::string positionsOut;
+};
+
+[[noreturn]] void Fail(const std::string& message)
+{
+    std::fprintf(stderr, "qp-accuracy-%s: %s\n", kBuild, message.c_str());
+    std::exit(2);
+}
+
+void PrintHelp()
+{
+    std::printf("qp-accuracy-%s --scene NAME [options]   (one JSON line on stdout)\n"
+                "  --scene NAME         %s\n"
+                "  --size N             scene size (default: the scene's default)\n"
+                "  --seed S             scene seed (default 1)\n"
+                "  --seconds T          simulated seconds (default 10)\n"
+                "  --hz H               steps per simulated second (default 60)\n"
+                "  --vel-iters V        velocity iterations (default 8)\n"
+                "  --pos-iters P        position iterations (default 3)\n"
+                "  --threads T          pair-generation threads, quadphase and paper builds (default 1)\n"
+                "  --depth D            quadphase build: auto | N | auto+K | auto-K (default auto)\n"
+                "  --levels L           paper build: auto | N | auto+K | auto-K (default auto: leaf about 2 "
+                "fat boxes)\n"
+                "  --check-every K      run the error checks after every K-th step (default 1)\n"
+                "  --sample-every S     positions sampling period in simulated seconds (default 0.5)\n"
+                "  --positions-out F    write the dynamic bodies' positions at every sample time to F\n",
+                kBuild, qs::SceneNameList().c_str());
+}
+
+int ParseInt(const std::string& flag, const char* text)
+{
+    char* end = nullptr;
+    const long value = std::strtol(text, &end, 10);
+    if (end == text || *end != '\0' || value < -1000000000L || value > 1000000000L)
+    {
+        Fail(flag + ": not an integer: '" + text + "'");
+    }
+    return static_cast<int>(value);
+}
+
+double ParseDouble(const std::string& flag, const char* text)
+{
+    char* end = nullptr;
+    const double value = std::strtod(text, &end);
+    if (end == text || *end != '\0' || !std::isfinite(value))
+    {
+        Fail(flag + ": not a number: '" + text + "'");
+    }
+    return value;
+}
+
+Options ParseOptions(int argc, char** argv)
+{
+    Options o;
+    for (int i = 1; i < argc; ++i)
+    {
+        const std::string flag = argv[i];
+        if (flag == "--help" || flag == "-h")
+        {
+            PrintHelp();
+            std::exit(0);
+        }
+        if (i + 1 >= argc)
+        {
+            Fail(flag + ": missing value (or unknown option; see --help)");
+        }
+        const char* value = argv[++i];
+        if (flag == "--scene")
+            o.scene = value;
+        else if (flag == "--size")
+            o.size = ParseInt(flag, value);
+        else if (flag == "--seed")
+            o.seed = static_cast<uint32_t>(ParseInt(flag, value));
+        else if (flag == "--seconds")
+            o.seconds = ParseDouble(flag, value);
+        else if (flag == "--hz")
+            o.hz = ParseInt(flag, value);
+        else if (flag == "--vel-iters")
+            o.velocityIterations = ParseInt(flag, value);
+        else if (flag == "--pos-iters")
+            o.positionIterations = ParseInt(flag, value);
+        else if (flag == "--threads")
+            o.threads = ParseInt(flag, value);
+        else if (flag == "--depth")
+            o.depth = value;
+        else if (flag == "--levels")
+            o.levels = value;
+        else if (flag == "--check-every")
+            o.checkEvery = ParseInt(flag, value);
+        else if (flag == "--sample-every")
+            o.sampleEvery = ParseDouble(flag, value);
+        else if (flag == "--positions-out")
+            o.positionsOut = value;
+        else
+            Fail("unknown option '" + flag + "' (see --help)");
+    }
+    if (o.scene.empty())
+        Fail("--scene is required (" + qs::SceneNameList() + ")");
+    if (o.seconds <= 0.0)
+        Fail("--seconds must be > 0");
+    if (o.hz <= 0)
+        Fail("--hz must be > 0");
+    if (o.velocityIterations < 1 || o.positionIterations < 0)
+        Fail("--vel-iters must be >= 1 and --pos-iters >= 0");
+    if (o.threads < 1)
+        Fail("--threads must be >= 1");
+    if (o.checkEvery < 1)
+        Fail("--check-every must be >= 1");
+    const double perSample = o.sampleEvery * o.hz;
+    if (o.sampleEvery <= 0.0 || std::fabs(perSample - std::round(perSample)) > 1e-9 ||
+        std::round(perSample) < 1)
+        Fail("--sample-every times --hz must be a positive whole number of steps");
+    return o;
+}
+
+// "auto" -> {true, 0}; "auto+2" -> {true, 2}; "7" -> {false, 7}.
+struct Relative
+{
+    bool automatic;
+    int value;
+};
+
+[[maybe_unused]] Relative ParseRelative(const std::string& flag, const std::string& text)
+{
+    if (text.rfind("auto", 0) == 0)
+    {
+        const std::string rest = text.substr(4);
+        if (rest.empty())
+            return {true, 0};
+        if (rest[0] != '+' && rest[0] != '-')
+            Fail(flag + ": expected auto, auto+K, auto-K or a number, got '" + text + "'");
+        return {true, ParseInt(flag, rest.c_str())};
+    }
+    return {false, ParseInt(flag, text.c_str())};
+}
+
+struct Geometry
+{
+    b2AABB bounds;
+    float medianExtent; // of the tight AABBs, m
+};
+
+[[maybe_unused]] Geometry MeasureGeometry(const b2World& world)
+{
+    Geometry g{};
+    g.bounds.lowerBound.Set(0.0f, 0.0f);
+    g.bounds.upperBound.Set(0.0f, 0.0f);
+    bool first = true;
+    std::vector<float> extents;
+    for (const b2Body* body = world.GetBodyList(); body != nullptr; body = body->GetNext())
+    {
+        for (const b2Fixture* f = body->GetFixtureList(); f != nullptr; f = f->GetNext())
+        {
+            for (int32 c = 0; c < f->GetShape()->GetChildCount(); ++c)
+            {
+                b2AABB box;
+                f->GetShape()->ComputeAABB(&box, body->GetTransform(), c);
+                if (first)
+                    g.bounds = box;
+                else
+                    g.bounds.Combine(box);
+                first = false;
+                extents.push_back(
+                    std::max(box.upperBound.x - box.lowerBound.x, box.upperBound.y - box.lowerBound.y));
+            }
+        }
+    }
+    if (!extents.empty())
+    {
+        std::nth_element(extents.begin(), extents.begin() + static_cast<std::ptrdiff_t>(extents.size() / 2),
+                         extents.end());
+        g.medianExtent = extents[extents.size() / 2];
+    }
+    return g;
+}
+
+// The dynamic body that starts highest (the pyramid's top box); nullptr when there is none.
+const b2Body* TopBody(const b2World& world)
+{
+    const b2Body* top = nullptr;
+    for (const b2Body* b = world.GetBodyList(); b != nullptr; b = b->GetNext())
+    {
+        if (b->GetType() == b2_dynamicBody && (top == nullptr || b->GetPosition().y > top->GetPosition().y))
+            top = b;
+    }
+    return top;
+}
+
+std::string JsonString(const std::string& s)
+{
+    std::string out = "\"";
+    for (char c : s)
+    {
+        if (c == '"' || c == '\\')
+            out += '\\';
+        out += c;
+    }
+    return out + "\"";
+}
+
+std::string JsonNumber(double v)
+{
+    if (!std::isfinite(v))
+        return "null";
+    char buffer[64];
+    std::snprintf(buffer, sizeof buffer, "%.9g", v);
+    return buffer;
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+    const Options o = ParseOptions(argc, argv);
+    const std::optional<qs::SceneId> id = qs::ParseSceneName(o.scene);
+    if (!id)
+        Fail("unknown scene '" + o.scene + "' (" + qs::SceneNameList() + ")");
+    const int size = o.size >= 0 ? o.size : qs::GetSceneInfo(*id).defaultSize;
+
+    int depthUsed = -1;
+    int autoDepth = -1;
+    int levelsUsed = -1;
+    int autoLevels = -1;
+    std::string boundsText = "null";
+#if defined(QP_ACCURACY_VARIANT_PAPER)
+    {
+        // The paper's tree covers a fixed region (its window). Here: the box of every shape of the scene as
+        // built and after kProbeSteps steps at the scene's own settings (spawned bodies, a settled pile),
+        // grown by 5% per side, measured on a probe build (scenes are deterministic, so the measured build is
+        // the same). The probe runs with ONE leaf (levels = 1): every pair is tested, so it is exact (and
+        // O(proxies^2)).
+        constexpr int kProbeSteps = 250;
+        {
+            quadphase::bench::PaperSettings exact;
+            exact.levels = 1;
+            exact.threads = 1;
+            quadphase::bench::SetPaperSettings(exact);
+        }
+        qs::Scene probe;
+        try
+        {
+            probe = qs::BuildScene(*id, size, o.seed);
+        }
+        catch (const std::exception& e)
+        {
+            Fail(e.what());
+        }
+        Geometry g = MeasureGeometry(*probe.world);
+        for (int i = 0; i < kProbeSteps; ++i)
+            qs::StepScene(probe);
+        const Geometry later = MeasureGeometry(*probe.world);
+        g.bounds.Combine(later.bounds);
+        g.medianExtent = later.medianExtent; // the population that is simulated most of the time
+        const float mx = 0.05f * (g.bounds.upperBound.x - g.bounds.lowerBound.x) + 1.0f;
+        const float my = 0.05f * (g.bounds.upperBound.y - g.bounds.lowerBound.y) + 1.0f;
+        quadphase::bench::PaperSettings settings;
+        settings.bounds = {g.bounds.lowerBound.x - mx, g.bounds.lowerBound.y - my, g.bounds.upperBound.x + mx,
+                           g.bounds.upperBound.y + my};
+        // Automatic level count, by quadphase's rule of thumb: leaf side about twice the median fat box
+        // (tight extent + 2 x b2_aabbExtension) along the longer side of the bounds, to the nearest power of
+        // two.
+        const float side = std::max(settings.bounds.maxX - settings.bounds.minX,
+                                    settings.bounds.maxY - settings.bounds.minY);
+        const float fat = g.medianExtent + 2.0f * b2_aabbExtension;
+        autoLevels = 1 + static_cast<int>(std::lround(std::log2(std::max(1.0f, side / (2.0f * fat)))));
+        autoLevels = std::clamp(autoLevels, quadphase::bench::PaperQuadtreeBroadPhase::kMinLevels,
+                                quadphase::bench::PaperQuadtreeBroadPhase::kMaxLevels);
+        const Relative rel = ParseRelative("--levels", o.levels);
+        // Relative values are clamped into range (the JSON line reports the level count used).
+        levelsUsed = rel.automatic ? std::clamp(autoLevels + rel.value,
+                                                quadphase::bench::PaperQuadtreeBroadPhase::kMinLevels,
+                                                quadphase::bench::PaperQuadtreeBroadPhase::kMaxLevels)
+                                   : rel.value;
+        if (levelsUsed < quadphase::bench::PaperQuadtreeBroadPhase::kMinLevels ||
+            levelsUsed > quadphase::bench::PaperQuadtreeBroadPhase::kMaxLevels)
+            Fail("--levels " + o.levels + " gives " + std::to_string(levelsUsed) + ", outside [1, 9]");
+        settings.levels = levelsUsed;
+        settings.threads = o.threads;
+        quadphase::bench::SetPaperSettings(settings);
+        char buffer[160];
+        std::snprintf(buffer, sizeof buffer, "[%.6g, %.6g, %.6g, %.6g]", settings.bounds.minX,
+                      settings.bounds.minY, settings.bounds.maxX, settings.bounds.maxY);
+        boundsText = buffer;
+    }
+#endif
+
+    qs::Scene scene;
+    try
+    {
+        scene = qs::BuildScene(*id, size, o.seed);
+    }
+    catch (const std::exception& e)
+    {
+        Fail(e.what());
+    }
+    b2World& world = *scene.world;
+
+#if defined(QUADPHASE_VARIANT_QUADPHASE)
+    {
+        quadphase::Config config = quadphase::GetConfig(world);
+        config.depth = -1;
+        config.threads = o.threads;
+        quadphase::Configure(world, config);
+        autoDepth = quadphase::GetStats(world).depth;
+        const Relative rel = ParseRelative("--depth", o.depth);
+        if (!rel.automatic || rel.value != 0)
+        {
+            // Relative values are clamped into range (the JSON line reports the depth used).
+            config.depth =
+                rel.automatic ? std::clamp(autoDepth + rel.value, 0, quadphase::kMaxDepth) : rel.value;
+            if (config.depth < 0 || config.depth > quadphase::kMaxDepth)
+                Fail("--depth " + o.depth + " gives " + std::to_string(config.depth) + ", outside [0, " +
+                     std::to_string(quadphase::kMaxDepth) + "]");
+            quadphase::Configure(world, config);
+        }
+        depthUsed = rel.automatic && rel.value == 0 ? -1 : config.depth;
+    }
+#else
+    if (o.threads != 1 && std::strcmp(kBuild, "stock") == 0)
+        Fail("--threads: the stock tree has no threads");
+    if (o.depth != "auto" && std::strcmp(kBuild, "quadphase") != 0)
+        Fail("--depth is for the quadphase build");
+#endif
+#if !defined(QP_ACCURACY_VARIANT_PAPER)
+    if (o.levels != "auto")
+        Fail("--levels is for the paper build");
+#endif
+
+    std::ofstream positions;
+    if (!o.positionsOut.empty())
+    {
+        positions.open(o.positionsOut);
+        if (!positions)
+            Fail("cannot write " + o.positionsOut);
+        positions.precision(9);
+    }
+
+    const b2Body* top = TopBody(world);
+    const b2Vec2 topStart = top != nullptr ? top->GetPosition() : b2Vec2(0.0f, 0.0f);
+    const double energyStart = qa::KineticEnergy(world);
+    double energyMaxDev = 0.0;
+
+    const float dt = 1.0f / static_cast<float>(o.hz);
+    const int64_t steps = static_cast<int64_t>(std::llround(o.seconds * o.hz));
+    const int64_t stepsPerSample = std::llround(o.sampleEvery * o.hz);
+    int64_t sceneSteps = 0; // per-step hook calls made (the scene's 60 Hz clock)
+
+    double stepSeconds = 0.0;
+    int64_t checks = 0, overlapping = 0, missed = 0, missedMax = 0, checksWithMiss = 0, missedNew = 0;
+    // Missed pairs of the previous check: a pair that stays missed for many checks (two bodies passing
+    // through each other) is counted once in missedNew, at the check where it starts being missed.
+    using Child = std::pair<const b2Fixture*, int32>;
+    std::set<std::pair<Child, Child>> previousMissed;
+    double penMax = 0.0, penSum = 0.0;
+    int64_t penPoints = 0;
+    double checkSeconds = 0.0;
+
+    for (int64_t n = 1; n <= steps; ++n)
+    {
+        const auto t0 = std::chrono::steady_clock::now();
+        world.Step(dt, o.velocityIterations, o.positionIterations);
+        const auto t1 = std::chrono::steady_clock::now();
+        stepSeconds += std::chrono::duration<double>(t1 - t0).count();
+
+        // Checks before the hook: the hook may teleport or create bodies, whose contacts come in the next
+        // Step.
+        if (n % o.checkEvery == 0)
+        {
+            const qa::MissedContacts m = qa::CheckMissedContacts(world, true);
+            std::set<std::pair<Child, Child>> nowMissed;
+            for (const auto& pair : m.missedPairs)
+            {
+                const Child a{pair.first.fixture, pair.first.child};
+                const Child b{pair.second.fixture, pair.second.child};
+                nowMissed.insert(std::less<Child>()(a, b) ? std::make_pair(a, b) : std::make_pair(b, a));
+            }
+            for (const auto& pair : nowMissed)
+                missedNew += previousMissed.count(pair) == 0 ? 1 : 0;
+            previousMissed.swap(nowMissed);
+            ++checks;
+            overlapping += m.overlapping;
+            missed += m.missed;
+            missedMax = std::max(missedMax, m.missed);
+            checksWithMiss += m.missed > 0 ? 1 : 0;
+            const qa::Penetration p = qa::MeasurePenetration(world);
+            penMax = std::max(penMax, p.maxDepth);
+            penSum += p.sumDepth;
+            penPoints += p.points;
+            if (energyStart > 0.0)
+                energyMaxDev =
+                    std::max(energyMaxDev, std::fabs(qa::KineticEnergy(world) / energyStart - 1.0));
+            checkSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+        }
+        if (positions.is_open() && n % stepsPerSample == 0)
+        {
+            positions << static_cast<double>(n) / o.hz;
+            for (const b2Body* b = world.GetBodyList(); b != nullptr; b = b->GetNext())
+            {
+                if (b->GetType() == b2_dynamicBody)
+                    positions << ' ' << b->GetPosition().x << ' ' << b->GetPosition().y;
+            }
+            positions << '\n';
+        }
+        // The scene's hook at its own 60 Hz clock: hook k runs once simulated time reaches (k + 1) / 60 s.
+        if (scene.perStep)
+        {
+            while ((sceneSteps + 1) * o.hz <= n * kSceneHz)
+            {
+                scene.perStep(world, static_cast<int>(sceneSteps));
+                ++sceneSteps;
+            }
+        }
+    }
+
+    const double energyEnd = qa::KineticEnergy(world);
+    const double simulated = static_cast<double>(steps) / o.hz;
+    const b2Vec2 topEnd = top != nullptr ? top->GetPosition() : b2Vec2(0.0f, 0.0f);
+
+    std::string line = "{";
+    auto add = [&line](const char* key, const std::string& value)
+    {
+        if (line.size() > 1)
+            line += ", ";
+        line += JsonString(key) + ": " + value;
+    };
+    add("build", JsonString(kBuild));
+    add("scene", JsonString(qs::SceneName(*id)));
+    add("size", std::to_string(size));
+    add("seed", std::to_string(o.seed));
+    add("hz", std::to_string(o.hz));
+    add("vel_iters", std::to_string(o.velocityIterations));
+    add("pos_iters", std::to_string(o.positionIterations));
+    add("threads", std::to_string(o.threads));
+    add("depth_arg", JsonString(o.depth));
+    add("depth", depthUsed >= 0 ? std::to_string(depthUsed) : std::string("null"));
+    add("auto_depth", autoDepth >= 0 ? std::to_string(autoDepth) : std::string("null"));
+    add("levels_arg", JsonString(o.levels));
+    add("levels", levelsUsed >= 0 ? std::to_string(levelsUsed) : std::string("null"));
+    add("auto_levels", autoLevels >= 0 ? std::to_string(autoLevels) : std::string("null"));
+    add("paper_bounds", boundsText);
+    add("steps", std::to_string(steps));
+    add("simulated_s", JsonNumber(simulated));
+    add("bodies", std::to_string(qs::CountBodies(world)));
+    add("fixtures", std::to_string(qs::CountFixtures(world)));
+    add("step_s", JsonNumber(stepSeconds));
+    add("run_s_per_sim_s", JsonNumber(stepSeconds / simulated));
+    add("check_s", JsonNumber(checkSeconds));
+    add("checks", std::to_string(checks));
+    add("overlapping", std::to_string(overlapping));
+    add("missed", std::to_string(missed));
+    add("missed_new", std::to_string(missedNew));
+    add("missed_max", std::to_string(missedMax));
+    add("checks_with_miss", std::to_string(checksWithMiss));
+    add("pen_max", JsonNumber(penMax));
+    add("pen_mean", JsonNumber(penPoints > 0 ? penSum / static_cast<double>(penPoints) : 0.0));
+    add("pen_points", std::to_string(penPoints));
+    add("energy_start", JsonNumber(energyStart));
+    add("energy_end", JsonNumber(energyEnd));
+    add("energy_drift", JsonNumber(energyStart > 0.0 ? energyEnd / energyStart - 1.0 : NAN));
+    add("energy_max_dev", JsonNumber(energyStart > 0.0 ? energyMaxDev : NAN));
+    add("top_dx", JsonNumber(top != nullptr ? double(topEnd.x) - double(topStart.x) : NAN));
+    add("top_dy", JsonNumber(top != nullptr ? double(topEnd.y) - double(topStart.y) : NAN));
+    add("cxx_flags", JsonString(QP_ACCURACY_CXX_FLAGS));
+    line += "}";
+    std::printf("%s\n", line.c_str());
+    return 0;
+}

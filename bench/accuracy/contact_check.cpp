@@ -1,0 +1,303 @@
+#include "contact_check.h"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+#include <unordered_set>
+
+namespace quadphase::accuracy
+{
+namespace
+{
+
+struct Proxy
+{
+    b2AABB box;
+    const b2Fixture* fixture;
+    const b2Body* body;
+    int32 child;
+    bool dynamic;
+};
+
+// A fixture child, ordered by (fixture address, child index).
+struct ChildKey
+{
+    uintptr_t fixture;
+    int32 child;
+    bool operator<(const ChildKey& o) const
+    {
+        return fixture < o.fixture || (fixture == o.fixture && child < o.child);
+    }
+    bool operator==(const ChildKey& o) const { return fixture == o.fixture && child == o.child; }
+};
+
+ChildKey KeyOf(const b2Fixture* fixture, int32 child)
+{
+    return ChildKey{reinterpret_cast<uintptr_t>(fixture), child};
+}
+
+struct PairKey
+{
+    ChildKey a;
+    ChildKey b;
+    bool operator==(const PairKey& o) const { return a == o.a && b == o.b; }
+};
+
+struct PairKeyHash
+{
+    size_t operator()(const PairKey& k) const
+    {
+        uint64_t h = static_cast<uint64_t>(k.a.fixture) * 0x9E3779B97F4A7C15ull;
+        h ^= static_cast<uint64_t>(static_cast<uint32_t>(k.a.child)) + 0x632BE59BD9B4E019ull + (h << 6) +
+             (h >> 2);
+        h ^= static_cast<uint64_t>(k.b.fixture) * 0xC2B2AE3D27D4EB4Full + (h << 6) + (h >> 2);
+        h ^= static_cast<uint64_t>(static_cast<uint32_t>(k.b.child)) + (h << 6) + (h >> 2);
+        return static_cast<size_t>(h);
+    }
+};
+
+PairKey MakePairKey(ChildKey x, ChildKey y)
+{
+    return x < y ? PairKey{x, y} : PairKey{y, x};
+}
+
+// b2ContactManager::AddPair's rules (b2_contact_manager.cpp), without the broadphase: same body, body types
+// and joints (b2Body::ShouldCollide), the world's contact filter.
+bool BoxShouldCollide(const b2World& world, const Proxy& a, const Proxy& b)
+{
+    if (a.body == b.body)
+    {
+        return false;
+    }
+    // b2Body::ShouldCollide (private): at least one body dynamic (checked by the caller), and no joint
+    // between the two bodies with collideConnected = false.
+    for (const b2JointEdge* edge = a.body->GetJointList(); edge != nullptr; edge = edge->next)
+    {
+        if (edge->other == b.body && !edge->joint->GetCollideConnected())
+        {
+            return false;
+        }
+    }
+    b2ContactFilter* filter = world.GetContactManager().m_contactFilter;
+    if (filter != nullptr &&
+        !filter->ShouldCollide(const_cast<b2Fixture*>(a.fixture), const_cast<b2Fixture*>(b.fixture)))
+    {
+        return false;
+    }
+    return true;
+}
+
+bool ShapesOverlap(const Proxy& a, const Proxy& b)
+{
+    if (!b2TestOverlap(a.box, b.box))
+    {
+        return false;
+    }
+    return b2TestOverlap(a.fixture->GetShape(), a.child, b.fixture->GetShape(), b.child,
+                         a.body->GetTransform(), b.body->GetTransform());
+}
+
+} // namespace
+
+MissedContacts CheckMissedContacts(const b2World& world, bool keepPairs)
+{
+    MissedContacts result;
+
+    std::vector<Proxy> proxies;
+    for (const b2Body* body = world.GetBodyList(); body != nullptr; body = body->GetNext())
+    {
+        for (const b2Fixture* fixture = body->GetFixtureList(); fixture != nullptr;
+             fixture = fixture->GetNext())
+        {
+            const b2Shape* shape = fixture->GetShape();
+            for (int32 child = 0; child < shape->GetChildCount(); ++child)
+            {
+                Proxy p;
+                shape->ComputeAABB(&p.box, body->GetTransform(), child);
+                p.fixture = fixture;
+                p.body = body;
+                p.child = child;
+                p.dynamic = body->GetType() == b2_dynamicBody;
+                proxies.push_back(p);
+            }
+        }
+    }
+
+    std::unordered_set<PairKey, PairKeyHash> contacts;
+    for (const b2Contact* c = world.GetContactList(); c != nullptr; c = c->GetNext())
+    {
+        contacts.insert(MakePairKey(KeyOf(c->GetFixtureA(), c->GetChildIndexA()),
+                                    KeyOf(c->GetFixtureB(), c->GetChildIndexB())));
+    }
+
+    auto visit = [&](const Proxy& a, const Proxy& b)
+    {
+        if (!a.dynamic && !b.dynamic)
+        {
+            return;
+        }
+        if (!ShapesOverlap(a, b) || !BoxShouldCollide(world, a, b))
+        {
+            return;
+        }
+        ++result.overlapping;
+        if (contacts.count(MakePairKey(KeyOf(a.fixture, a.child), KeyOf(b.fixture, b.child))) == 0)
+        {
+            ++result.missed;
+            if (keepPairs)
+            {
+                result.missedPairs.push_back({{a.fixture, a.child}, {b.fixture, b.child}});
+            }
+        }
+    };
+
+    if (proxies.empty())
+    {
+        return result;
+    }
+
+    // Grid cell: twice the median extent of the boxes. Boxes covering more than kLargeCells cells (grounds,
+    // walls) are tested against every box instead of being spread over the grid.
+    std::vector<float> extents;
+    extents.reserve(proxies.size());
+    for (const Proxy& p : proxies)
+    {
+        extents.push_back(
+            std::max(p.box.upperBound.x - p.box.lowerBound.x, p.box.upperBound.y - p.box.lowerBound.y));
+    }
+    std::nth_element(extents.begin(), extents.begin() + static_cast<std::ptrdiff_t>(extents.size() / 2),
+                     extents.end());
+    const float cell = std::max(2.0f * extents[extents.size() / 2], 1e-3f);
+    const float inv = 1.0f / cell;
+    constexpr int64_t kLargeCells = 64;
+
+    auto cellOf = [inv](float v) { return static_cast<int64_t>(std::floor(v * inv)); };
+    auto cellKey = [](int64_t x, int64_t y)
+    { return (static_cast<uint64_t>(x) << 32) ^ (static_cast<uint64_t>(y) & 0xffffffffull); };
+
+    std::vector<int32_t> large;
+    std::vector<char> isLarge(proxies.size(), 0);
+    std::unordered_map<uint64_t, std::vector<int32_t>> grid;
+    for (int32_t i = 0; i < static_cast<int32_t>(proxies.size()); ++i)
+    {
+        const b2AABB& b = proxies[i].box;
+        if (!(std::isfinite(b.lowerBound.x) && std::isfinite(b.lowerBound.y) &&
+              std::isfinite(b.upperBound.x) && std::isfinite(b.upperBound.y)))
+        {
+            large.push_back(i); // a non-finite box: brute force, so nothing is silently skipped
+            isLarge[static_cast<size_t>(i)] = 1;
+            continue;
+        }
+        const int64_t x0 = cellOf(b.lowerBound.x), x1 = cellOf(b.upperBound.x);
+        const int64_t y0 = cellOf(b.lowerBound.y), y1 = cellOf(b.upperBound.y);
+        if ((x1 - x0 + 1) * (y1 - y0 + 1) > kLargeCells)
+        {
+            large.push_back(i);
+            isLarge[static_cast<size_t>(i)] = 1;
+            continue;
+        }
+        for (int64_t x = x0; x <= x1; ++x)
+        {
+            for (int64_t y = y0; y <= y1; ++y)
+            {
+                grid[cellKey(x, y)].push_back(i);
+            }
+        }
+    }
+
+    // Grid pairs: each pair is visited once, in the cell that holds the corner (max of the lower bounds).
+    for (const auto& entry : grid)
+    {
+        const std::vector<int32_t>& members = entry.second;
+        for (size_t i = 0; i < members.size(); ++i)
+        {
+            const Proxy& a = proxies[members[i]];
+            for (size_t j = i + 1; j < members.size(); ++j)
+            {
+                const Proxy& b = proxies[members[j]];
+                const int64_t cx = cellOf(std::max(a.box.lowerBound.x, b.box.lowerBound.x));
+                const int64_t cy = cellOf(std::max(a.box.lowerBound.y, b.box.lowerBound.y));
+                if (cellKey(cx, cy) != entry.first)
+                {
+                    continue;
+                }
+                visit(a, b);
+            }
+        }
+    }
+    // Large boxes against everything (each pair once: a large box against a smaller index among the large
+    // ones).
+    for (size_t li = 0; li < large.size(); ++li)
+    {
+        const int32_t i = large[li];
+        for (int32_t j = 0; j < static_cast<int32_t>(proxies.size()); ++j)
+        {
+            if (j == i)
+            {
+                continue;
+            }
+            if (isLarge[static_cast<size_t>(j)] != 0 && j < i)
+            {
+                continue; // visited when j was the large one
+            }
+            visit(proxies[i], proxies[j]);
+        }
+    }
+    return result;
+}
+
+Penetration MeasurePenetration(const b2World& world)
+{
+    Penetration result;
+    for (const b2Contact* c = world.GetContactList(); c != nullptr; c = c->GetNext())
+    {
+        if (!c->IsTouching() || !c->IsEnabled() || c->GetFixtureA()->IsSensor() ||
+            c->GetFixtureB()->IsSensor())
+        {
+            continue;
+        }
+        const b2Body* bodyA = c->GetFixtureA()->GetBody();
+        const b2Body* bodyB = c->GetFixtureB()->GetBody();
+        b2Manifold manifold;
+        // Evaluate is not const in Box2D's API but only writes `manifold`.
+        const_cast<b2Contact*>(c)->Evaluate(&manifold, bodyA->GetTransform(), bodyB->GetTransform());
+        if (manifold.pointCount == 0)
+        {
+            continue;
+        }
+        b2WorldManifold wm;
+        wm.Initialize(&manifold, bodyA->GetTransform(), c->GetFixtureA()->GetShape()->m_radius,
+                      bodyB->GetTransform(), c->GetFixtureB()->GetShape()->m_radius);
+        for (int32 i = 0; i < manifold.pointCount; ++i)
+        {
+            const double depth = std::max(0.0, -static_cast<double>(wm.separations[i]));
+            result.maxDepth = std::max(result.maxDepth, depth);
+            result.sumDepth += depth;
+            ++result.points;
+        }
+    }
+    return result;
+}
+
+double KineticEnergy(const b2World& world)
+{
+    double energy = 0.0;
+    for (const b2Body* body = world.GetBodyList(); body != nullptr; body = body->GetNext())
+    {
+        if (body->GetType() != b2_dynamicBody)
+        {
+            continue;
+        }
+        const b2Vec2 v = body->GetLinearVelocity();
+        const double w = body->GetAngularVelocity();
+        // GetInertia() is about the body origin; the rotational energy needs the inertia about the centre of
+        // mass.
+        const b2Vec2 c = body->GetLocalCenter();
+        const double inertia =
+            double(body->GetInertia()) - double(body->GetMass()) * (double(c.x) * c.x + double(c.y) * c.y);
+        energy += 0.5 * body->GetMass() * (double(v.x) * v.x + double(v.y) * v.y) + 0.5 * inertia * w * w;
+    }
+    return energy;
+}
+
+} // namespace quadphase::accuracy
