@@ -539,6 +539,7 @@ def figures(res, step_rows, replay_rows, circle_rows):
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
+        from matplotlib.ticker import FuncFormatter
     except ImportError:
         print("bench.py: matplotlib missing (bench/install-deps.sh installs python3-matplotlib): no plots")
         return {}
@@ -557,9 +558,11 @@ def figures(res, step_rows, replay_rows, circle_rows):
                     s, q = by.get(c + ("stock",)), by.get(c + (eng,))
                     vals.append(ratio(s and s[metric], q and q[metric]) or 0)
                 ax.bar([x + (k - 0.5) * 0.4 for x in xs], vals, 0.4, color=color,
-                       label=eng.replace("quadtree-", "quadtree, ").replace("t", " thread(s)", 1))
+                       label="quadphase, 1 thread" if eng == "quadtree-1t" else "quadphase, 2 threads")
             ax.axhline(1.0, color="black", lw=0.8)
             ax.set_yscale("log")
+            ax.yaxis.set_major_formatter(FuncFormatter(lambda y, _: f"{y:g}×"))
+            ax.yaxis.set_minor_formatter(FuncFormatter(lambda y, _: f"{y:g}×" if round(y * 10) % 5 == 0 else ""))
             ax.set_ylabel("stock time / quadtree time")
             ax.set_title(title + ": > 1 means quadphase is faster")
             ax.legend(fontsize=8)
@@ -604,9 +607,11 @@ def figures(res, step_rows, replay_rows, circle_rows):
                 name = ("paper's design" if r["engine"] == "paper" else "quadphase") + \
                        (", sequential" if r["threads"] == 1 else f", {r['threads']} threads (static)")
                 series.setdefault(name, {})[str(r["depth"])] = r["n_max"]
-        for name, vals in sorted(series.items()):
+        for k, (name, vals) in enumerate(sorted(series.items())):
             xs = [i for i, l in enumerate(labels) if l in vals]
-            ax.plot(xs, [vals[labels[i]] for i in xs], marker="o", label=name + " (here)")
+            # A small sideways offset per series, so that equal results stay visible.
+            ax.plot([x + 0.06 * (k - 1.5) for x in xs], [vals[labels[i]] for i in xs], marker="o",
+                    label=name + " (here)")
         for r in circle_rows:
             if r["engine"] in ("pairwise", "stock"):
                 ax.axhline(r["n_max"], ls=":", color="gray" if r["engine"] == "pairwise" else "green")
@@ -619,6 +624,7 @@ def figures(res, step_rows, replay_rows, circle_rows):
         ax.axhline(1360, ls="--", color="red", alpha=0.4, lw=1)
         ax.text(0, 1360, "paper brute force 1,360 (i7)", fontsize=7, va="bottom")
         ax.set_yscale("log")
+        ax.yaxis.set_major_formatter(FuncFormatter(lambda y, _: f"{y:,.0f}"))
         ax.set_xticks(range(len(labels)))
         ax.set_xticklabels(labels)
         ax.set_xlabel("depth (paper: its level; quadphase: pyramid depth)")
