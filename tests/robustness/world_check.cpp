@@ -1,0 +1,184 @@
+#include "world_check.h"
+
+#include <cmath>
+#include <string>
+
+#include <catch2/catch.hpp>
+
+#if defined(QUADPHASE_VARIANT_QUADPHASE)
+#include "quadphase/box2d.h"
+#include "quadphase/error.h"
+#endif
+
+namespace qprobust
+{
+namespace
+{
+
+#if defined(QUADPHASE_VARIANT_QUADPHASE)
+struct ErrorLog
+{
+    int count = 0;
+    std::string first;
+};
+
+ErrorLog g_log;
+
+void Record(quadphase::ErrorCode code, const char* message, void*)
+{
+    if (g_log.count++ == 0)
+    {
+        g_log.first = std::string(quadphase::ErrorCodeName(code)) + ": " + message;
+    }
+}
+#endif
+
+bool Finite(const b2Body& b)
+{
+    const b2Vec2 p = b.GetPosition();
+    const b2Vec2 v = b.GetLinearVelocity();
+    return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(b.GetAngle()) && std::isfinite(v.x) &&
+           std::isfinite(v.y) && std::isfinite(b.GetAngularVelocity());
+}
+
+} // namespace
+
+const char* VariantName()
+{
+#if defined(QUADPHASE_VARIANT_QUADPHASE)
+    return "quadphase";
+#else
+    return "stock";
+#endif
+}
+
+Observed StepWorld(b2World& world, int steps, const std::function<void(int)>& after)
+{
+    Observed seen;
+    for (int step = 0; step < steps; ++step)
+    {
+        world.Step(1.0f / 60.0f, 8, 3);
+        if (after)
+        {
+            after(step);
+        }
+        for (const b2Body* b = world.GetBodyList(); b != nullptr; b = b->GetNext())
+        {
+            if (b->GetType() != b2_dynamicBody)
+            {
+                continue;
+            }
+            seen.finite = seen.finite && Finite(*b);
+            const float speed = b->GetLinearVelocity().Length();
+            seen.maxSpeed = speed > seen.maxSpeed ? speed : seen.maxSpeed;
+        }
+        seen.steps += 1;
+    }
+    return seen;
+}
+
+b2Body* AddBox(b2World& world, b2BodyType type, b2Vec2 position, float hx, float hy, float density,
+               float friction)
+{
+    b2BodyDef def;
+    def.type = type;
+    def.position = position;
+    b2Body* body = world.CreateBody(&def);
+    b2PolygonShape shape;
+    shape.SetAsBox(hx, hy);
+    b2FixtureDef fixture;
+    fixture.shape = &shape;
+    fixture.density = density;
+    fixture.friction = friction;
+    body->CreateFixture(&fixture);
+    return body;
+}
+
+b2Body* AddCircle(b2World& world, b2BodyType type, b2Vec2 position, float radius, float density)
+{
+    b2BodyDef def;
+    def.type = type;
+    def.position = position;
+    b2Body* body = world.CreateBody(&def);
+    b2CircleShape shape;
+    shape.m_radius = radius;
+    b2FixtureDef fixture;
+    fixture.shape = &shape;
+    fixture.density = density;
+    fixture.friction = 0.6f;
+    body->CreateFixture(&fixture);
+    return body;
+}
+
+bool AllDynamicInside(const b2World& world, const b2AABB& region)
+{
+    for (const b2Body* b = world.GetBodyList(); b != nullptr; b = b->GetNext())
+    {
+        if (b->GetType() != b2_dynamicBody)
+        {
+            continue;
+        }
+        const b2Vec2 p = b->GetPosition();
+        if (!(region.lowerBound.x <= p.x && p.x <= region.upperBound.x && region.lowerBound.y <= p.y &&
+              p.y <= region.upperBound.y))
+        {
+            return false;
+        }
+    }
+    return true;
+}
+
+int TouchingContacts(const b2World& world)
+{
+    int n = 0;
+    for (const b2Contact* c = world.GetContactList(); c != nullptr; c = c->GetNext())
+    {
+        n += c->IsTouching() ? 1 : 0;
+    }
+    return n;
+}
+
+int DynamicBodies(const b2World& world)
+{
+    int n = 0;
+    for (const b2Body* b = world.GetBodyList(); b != nullptr; b = b->GetNext())
+    {
+        n += b->GetType() == b2_dynamicBody ? 1 : 0;
+    }
+    return n;
+}
+
+Exactness::Exactness(b2World& world) : m_world(world)
+{
+#if defined(QUADPHASE_VARIANT_QUADPHASE)
+    g_log = ErrorLog{};
+    quadphase::SetErrorHandler(&Record);
+    quadphase::SetValidation(m_world, true);
+#endif
+}
+
+Exactness::~Exactness()
+{
+#if defined(QUADPHASE_VARIANT_QUADPHASE)
+    quadphase::SetValidation(m_world, false);
+    quadphase::SetErrorHandler(nullptr);
+#endif
+}
+
+long long Exactness::Require(long long minChecks) const
+{
+#if defined(QUADPHASE_VARIANT_QUADPHASE)
+    const quadphase::ValidationReport report = quadphase::GetValidationReport(m_world);
+    INFO("validation: " << report.checks << " checks, " << report.pairsCompared << " pairs, first mismatch: "
+                        << report.firstMismatch << "; first error report: " << g_log.first);
+    REQUIRE(report.mismatches == 0);
+    REQUIRE(g_log.count == 0);
+    REQUIRE(report.checks >= minChecks);
+    return report.pairsCompared;
+#else
+    (void)minChecks;
+    return 0;
+#endif
+}
+
+} // namespace qprobust
