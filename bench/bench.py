@@ -669,6 +669,11 @@ def markdown(args, info, step_rows, replay_rows, circle_rows, plots):
     if qs:
         L.append(f"- machine load before the rounds (CPUs busy with other processes): median {med(qs):.2f}, "
                  f"max {max(qs):.2f}. The machine is shared: rerun to compare.")
+    if qs and med(qs) > 0.5:
+        L.append(f"- **The machine was busy during this run** (median {med(qs):.1f} CPUs used by other processes "
+                 "before the rounds). All times are inflated, and the 2-thread figures in particular: an OpenMP "
+                 "parallel region waits for its second thread, which the other processes keep off the CPU. Rerun on "
+                 "a quiet machine before drawing conclusions from the 2-thread columns.")
     if info.get("engines_missing"):
         L.append(f"- not built (Chipmunk2D / Bullet missing at configure time): {', '.join(info['engines_missing'])}")
     L.append("")
