@@ -15,6 +15,9 @@
 //             margins), every frame inserts everything, reports all pairs found; each is circle-tested;
 //   stock     Box2D 2.4.1's b2BroadPhase (MoveProxy of every circle, UpdatePairs);
 //   quadtree  quadphase::QuadtreeBroadPhase (--depth, --threads) through the same calls.
+// Each repeat builds a fresh world, runs one creation frame and, for stock and quadtree, --warmup frames untimed
+// (all circles start together, so Box2D's fat boxes expire in bursts at first; the warm-up spreads them out;
+// brute force and the paper's design keep no state between frames), then times --frames frames (their mean).
 // stock and quadtree keep Box2D's persistent pair list, as b2ContactManager does: new pairs from UpdatePairs
 // are added (duplicates dropped), every listed pair whose fat boxes no longer overlap is dropped, and every
 // listed pair is circle-tested; all of that is in the frame time, the same code for both.
