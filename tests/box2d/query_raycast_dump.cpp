@@ -76,9 +76,11 @@ struct Case
 
 // Every scene at least once (checked at start-up), sizes chosen to keep the whole run to a few seconds.
 const Case kCases[] = {
-    {SceneId::Rain, 3000, 1},      {SceneId::Tiles, 4000, 2},  {SceneId::Pyramid, 20, 3},
-    {SceneId::Particles, 3000, 4}, {SceneId::Sparse, 2000, 5}, {SceneId::Bullets, 200, 6},
-    {SceneId::Tumbler, 400, 7},    {SceneId::Rain, 500, 8},
+    {SceneId::Rain, 3000, 1},       {SceneId::Tiles, 4000, 2},  {SceneId::Pyramid, 20, 3},
+    {SceneId::Particles, 3000, 4},  {SceneId::Sparse, 2000, 5}, {SceneId::Bullets, 200, 6},
+    {SceneId::Tumbler, 400, 7},     {SceneId::Rain, 500, 8},    {SceneId::Shooter, 200, 9},
+    {SceneId::OpenWorld, 1000, 10}, {SceneId::Mixed, 1000, 11}, {SceneId::Terrain, 300, 12},
+    {SceneId::Churn, 500, 13},
 };
 
 constexpr int kSpawnSteps = 200; // perStep calls (tumbler and bullets create their bodies there)

@@ -34,6 +34,16 @@ int SmallSize(const SceneInfo& info)
         return 120;
     case SceneId::Sparse:
         return 300;
+    case SceneId::Shooter:
+        return 100;
+    case SceneId::OpenWorld:
+        return 300;
+    case SceneId::Mixed:
+        return 300;
+    case SceneId::Terrain:
+        return 150;
+    case SceneId::Churn:
+        return 200;
     }
     return info.minSize;
 }
@@ -145,7 +155,7 @@ TEST_CASE("scene sizes and body counts", "[scenes]")
 TEST_CASE("scene registry: names, parsing and size checks", "[scenes]")
 {
     const auto& scenes = quadphase::scenes::AllScenes();
-    REQUIRE(scenes.size() == 7);
+    REQUIRE(scenes.size() == 12);
     for (const SceneInfo& info : scenes)
     {
         INFO("scene " << info.name);
@@ -159,7 +169,9 @@ TEST_CASE("scene registry: names, parsing and size checks", "[scenes]")
     CHECK(quadphase::scenes::ParseSceneName("RAIN") == SceneId::Rain);
     CHECK_FALSE(quadphase::scenes::ParseSceneName("drizzle").has_value());
     CHECK_FALSE(quadphase::scenes::ParseSceneName("").has_value());
-    CHECK(quadphase::scenes::SceneNameList() == "pyramid, rain, tumbler, tiles, particles, bullets, sparse");
+    CHECK(quadphase::scenes::SceneNameList() ==
+          "pyramid, rain, tumbler, tiles, particles, bullets, sparse, shooter, "
+          "openworld, mixed, terrain, churn");
 }
 
 TEST_CASE("Rng: standard mt19937 stream with portable mappings", "[scenes]")

@@ -28,7 +28,8 @@ struct ValidationCase
 // One entry per scene; the test "every scene has a validation case" keeps this list complete.
 const ValidationCase kCases[] = {
     {SceneId::Pyramid, 40},     {SceneId::Rain, 4000},   {SceneId::Tumbler, 400}, {SceneId::Tiles, 4000},
-    {SceneId::Particles, 4000}, {SceneId::Bullets, 400}, {SceneId::Sparse, 2000},
+    {SceneId::Particles, 4000}, {SceneId::Bullets, 400}, {SceneId::Sparse, 2000}, {SceneId::Shooter, 300},
+    {SceneId::OpenWorld, 600},  {SceneId::Mixed, 500},   {SceneId::Terrain, 500}, {SceneId::Churn, 500},
 };
 
 int SizeFor(SceneId id)
@@ -124,4 +125,29 @@ TEST_CASE("bullets validates against the shadow tree", "[scenes][validation]")
 TEST_CASE("sparse validates against the shadow tree", "[scenes][validation]")
 {
     RunValidated(SceneId::Sparse);
+}
+
+TEST_CASE("shooter validates against the shadow tree", "[scenes][validation]")
+{
+    RunValidated(SceneId::Shooter);
+}
+
+TEST_CASE("openworld validates against the shadow tree", "[scenes][validation]")
+{
+    RunValidated(SceneId::OpenWorld);
+}
+
+TEST_CASE("mixed validates against the shadow tree", "[scenes][validation]")
+{
+    RunValidated(SceneId::Mixed);
+}
+
+TEST_CASE("terrain validates against the shadow tree", "[scenes][validation]")
+{
+    RunValidated(SceneId::Terrain);
+}
+
+TEST_CASE("churn validates against the shadow tree", "[scenes][validation]")
+{
+    RunValidated(SceneId::Churn);
 }

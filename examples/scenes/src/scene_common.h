@@ -18,6 +18,11 @@ Scene BuildTiles(int size, uint32_t seed);
 Scene BuildParticles(int size, uint32_t seed);
 Scene BuildBullets(int size, uint32_t seed);
 Scene BuildSparse(int size, uint32_t seed);
+Scene BuildShooter(int size, uint32_t seed);
+Scene BuildOpenWorld(int size, uint32_t seed);
+Scene BuildMixed(int size, uint32_t seed);
+Scene BuildTerrain(int size, uint32_t seed);
+Scene BuildChurn(int size, uint32_t seed);
 
 /// A Scene with default stepping settings and a fresh world with the given gravity.
 inline Scene MakeScene(SceneId id, int size, uint32_t seed, b2Vec2 gravity)

@@ -33,6 +33,21 @@ const std::vector<SceneInfo>& AllScenes()
         {SceneId::Sparse, "sparse",
          "moving bodies and static rocks spread over a large closed world (one per 400 m^2), no gravity",
          "moving bodies", 1, 100000, 4000},
+        {SceneId::Shooter, "shooter",
+         "top-down shooter: enemies chase a circling player who fires bullets (destroyed after 0.75 s)",
+         "enemies", 1, 20000, 400},
+        {SceneId::OpenWorld, "openworld",
+         "vehicles driving through towns of static buildings, map centred ~50 km from the origin, no gravity",
+         "vehicles", 1, 100000, 2000},
+        {SceneId::Mixed, "mixed",
+         "pebbles, crates and boulders (radii 0.05-3.5 m) falling onto a 20 km ground", "falling bodies", 1,
+         50000, 3000},
+        {SceneId::Terrain, "terrain",
+         "circles and polygons rolling down a chain-shape landscape of rolling hills", "rolling bodies", 1,
+         20000, 1000},
+        {SceneId::Churn, "churn",
+         "bodies in a container; every step N/120 (at least 1) are destroyed and as many created",
+         "live bodies", 1, 50000, 2000},
     };
     return scenes;
 }
@@ -116,6 +131,16 @@ Scene BuildScene(SceneId id, int size, uint32_t seed)
         return detail::BuildBullets(size, seed);
     case SceneId::Sparse:
         return detail::BuildSparse(size, seed);
+    case SceneId::Shooter:
+        return detail::BuildShooter(size, seed);
+    case SceneId::OpenWorld:
+        return detail::BuildOpenWorld(size, seed);
+    case SceneId::Mixed:
+        return detail::BuildMixed(size, seed);
+    case SceneId::Terrain:
+        return detail::BuildTerrain(size, seed);
+    case SceneId::Churn:
+        return detail::BuildChurn(size, seed);
     }
     throw std::invalid_argument("quadphase::scenes: unknown SceneId");
 }

@@ -34,6 +34,11 @@ enum class SceneId
                ///< 0.15
     Bullets,   ///< size = fast bullet bodies fired through thin walls at a pile, relaunched periodically
     Sparse,    ///< size = moving bodies spread thinly over a large closed world, mostly not touching
+    Shooter,   ///< size = enemies chasing a player who fires streams of bullets (top-down, no gravity)
+    OpenWorld, ///< size = vehicles driving through towns on a map centred ~50 km from the origin
+    Mixed,     ///< size = pebbles, crates and boulders (radii 0.05-3.5 m) falling onto a 20 km static ground
+    Terrain,   ///< size = circles and polygons rolling down a chain-shape landscape
+    Churn,     ///< size = live bodies in a container; every step some are destroyed and as many created
 };
 
 /// Static description of a scene.
