@@ -1,0 +1,329 @@
+// Parsing and help text of quadphase-scene's options.
+#include "scene_cli_options.h"
+
+#include <charconv>
+#include <cstdlib>
+#include <string_view>
+#include <system_error>
+
+namespace quadphase::scene_cli
+{
+
+namespace
+{
+
+int64_t ParseInteger(const std::string& option, const std::string& text, int64_t lo, int64_t hi)
+{
+    int64_t value = 0;
+    const char* first = text.data();
+    const char* last = text.data() + text.size();
+    const auto [ptr, ec] = std::from_chars(first, last, value);
+    if (text.empty() || ec != std::errc() || ptr != last)
+    {
+        throw UsageError("option " + option + " expects an integer, got '" + text + "'");
+    }
+    if (value < lo || value > hi)
+    {
+        throw UsageError("option " + option + " must be in [" + std::to_string(lo) + ", " +
+                         std::to_string(hi) + "], got " + std::to_string(value));
+    }
+    return value;
+}
+
+float ParseFloat(const std::string& option, const std::string& text)
+{
+    // strtof: std::from_chars for float needs GCC 11+; fine here, but strtof also accepts what users type.
+    char* end = nullptr;
+    const float value = std::strtof(text.c_str(), &end);
+    if (text.empty() || end != text.c_str() + text.size() || !(value == value) || value > 1e30f ||
+        value < -1e30f)
+    {
+        throw UsageError("option " + option + " expects a finite number, got '" + text + "'");
+    }
+    return value;
+}
+
+ViewRect ParseView(const std::string& option, const std::string& text)
+{
+    float values[4];
+    size_t start = 0;
+    for (int i = 0; i < 4; ++i)
+    {
+        const size_t comma = text.find(',', start);
+        if ((i < 3) != (comma != std::string::npos))
+        {
+            throw UsageError("option " + option + " expects MINX,MINY,MAXX,MAXY (four numbers), got '" +
+                             text + "'");
+        }
+        const size_t end = i < 3 ? comma : text.size();
+        values[i] = ParseFloat(option, text.substr(start, end - start));
+        start = end + 1;
+    }
+    ViewRect view{values[0], values[1], values[2], values[3]};
+    if (!(view.minX < view.maxX) || !(view.minY < view.maxY))
+    {
+        throw UsageError("option " + option + ": MINX must be below MAXX and MINY below MAXY, got '" + text +
+                         "'");
+    }
+    return view;
+}
+
+std::string CheckBroadphase(const std::string& option, const std::string& value)
+{
+    if (value != "quadtree" && value != "stock")
+    {
+        throw UsageError("option " + option + " must be 'quadtree' or 'stock', got '" + value + "'");
+    }
+    return value;
+}
+
+bool EndsWith(const std::string& text, const std::string& suffix)
+{
+    return text.size() >= suffix.size() &&
+           text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+/// Walks args, splitting "--name=value", and calls handle(name, takeValue, noValue, raw) for each option.
+template <typename Handler>
+void Walk(const std::vector<std::string>& args, Handler&& handle)
+{
+    for (size_t i = 0; i < args.size(); ++i)
+    {
+        std::string name = args[i];
+        std::string value;
+        bool hasValue = false;
+        const size_t equals = name.find('=');
+        if (name.rfind("--", 0) == 0 && equals != std::string::npos)
+        {
+            value = name.substr(equals + 1);
+            name = name.substr(0, equals);
+            hasValue = true;
+        }
+        auto takeValue = [&]() -> std::string
+        {
+            if (hasValue)
+            {
+                return value;
+            }
+            if (i + 1 >= args.size())
+            {
+                throw UsageError("option " + name + " needs a value");
+            }
+            return args[++i];
+        };
+        auto noValue = [&]()
+        {
+            if (hasValue)
+            {
+                throw UsageError("option " + name + " takes no value");
+            }
+        };
+        handle(name, takeValue, noValue, args[i]);
+    }
+}
+
+} // namespace
+
+std::string FindBroadphase(const std::vector<std::string>& args)
+{
+    std::string broadphase = "quadtree";
+    for (size_t i = 0; i < args.size(); ++i)
+    {
+        if (args[i] == "--broadphase")
+        {
+            if (i + 1 >= args.size())
+            {
+                throw UsageError("option --broadphase needs a value");
+            }
+            broadphase = CheckBroadphase("--broadphase", args[++i]);
+        }
+        else if (args[i].rfind("--broadphase=", 0) == 0)
+        {
+            broadphase = CheckBroadphase("--broadphase", args[i].substr(13));
+        }
+    }
+    return broadphase;
+}
+
+Options ParseOptions(const std::vector<std::string>& args)
+{
+    Options options;
+    bool everyGiven = false;
+    Walk(args,
+         [&](const std::string& name, auto&& takeValue, auto&& noValue, const std::string& raw)
+         {
+             if (name == "--help" || name == "-h")
+             {
+                 noValue();
+                 options.help = true;
+             }
+             else if (name == "--scene")
+             {
+                 const std::string value = takeValue();
+                 const auto id = scenes::ParseSceneName(value);
+                 if (!id)
+                 {
+                     throw UsageError("unknown scene '" + value + "' (scenes: " + scenes::SceneNameList() +
+                                      ")");
+                 }
+                 options.sceneId = *id;
+                 options.scene = scenes::SceneName(*id);
+             }
+             else if (name == "--size")
+             {
+                 options.size = static_cast<int>(ParseInteger(name, takeValue(), 1, 100000000));
+             }
+             else if (name == "--steps")
+             {
+                 options.steps = static_cast<int>(ParseInteger(name, takeValue(), 1, 10000000));
+             }
+             else if (name == "--seed")
+             {
+                 options.seed = static_cast<uint32_t>(ParseInteger(name, takeValue(), 0, UINT32_MAX));
+             }
+             else if (name == "--broadphase")
+             {
+                 options.broadphase = CheckBroadphase(name, takeValue());
+             }
+             else if (name == "--png")
+             {
+                 options.pngDir = takeValue();
+                 if (options.pngDir.empty())
+                 {
+                     throw UsageError("option --png needs a directory name");
+                 }
+             }
+             else if (name == "--every")
+             {
+                 options.every = static_cast<int>(ParseInteger(name, takeValue(), 1, 10000000));
+                 everyGiven = true;
+             }
+             else if (name == "--width")
+             {
+                 options.width = static_cast<int>(ParseInteger(name, takeValue(), 16, 8192));
+             }
+             else if (name == "--height")
+             {
+                 options.height = static_cast<int>(ParseInteger(name, takeValue(), 16, 8192));
+             }
+             else if (name == "--view")
+             {
+                 options.view = ParseView(name, takeValue());
+                 options.autoView = false;
+             }
+             else if (name == "--no-overlay")
+             {
+                 noValue();
+                 options.overlay = false;
+             }
+             else if (name == "--gif")
+             {
+                 options.gifPath = takeValue();
+                 if (!EndsWith(options.gifPath, ".gif"))
+                 {
+                     throw UsageError("option --gif expects a file name ending in .gif, got '" +
+                                      options.gifPath + "'");
+                 }
+             }
+             else if (name == "--mp4")
+             {
+                 options.mp4Path = takeValue();
+                 if (!EndsWith(options.mp4Path, ".mp4"))
+                 {
+                     throw UsageError("option --mp4 expects a file name ending in .mp4, got '" +
+                                      options.mp4Path + "'");
+                 }
+             }
+             else if (name == "--fps")
+             {
+                 options.fps = static_cast<int>(ParseInteger(name, takeValue(), 1, 120));
+             }
+             else if (name == "--quiet")
+             {
+                 noValue();
+                 options.quiet = true;
+             }
+             else
+             {
+                 throw UsageError("unknown option '" + raw + "' (see --help)");
+             }
+         });
+    if (options.help)
+    {
+        return options;
+    }
+
+    const scenes::SceneInfo& info = scenes::GetSceneInfo(options.sceneId);
+    if (options.size < 0)
+    {
+        options.size = info.defaultSize;
+    }
+    else if (options.size < info.minSize || options.size > info.maxSize)
+    {
+        throw UsageError("--size " + std::to_string(options.size) + " is outside the range of scene '" +
+                         info.name + "' [" + std::to_string(info.minSize) + ", " +
+                         std::to_string(info.maxSize) + "] (size = " + info.sizeMeaning + ")");
+    }
+    if ((!options.gifPath.empty() || !options.mp4Path.empty()) && options.pngDir.empty())
+    {
+        throw UsageError("--gif and --mp4 are made from the PNG frames: give --png DIR too");
+    }
+    if (everyGiven && options.pngDir.empty())
+    {
+        throw UsageError("--every sets how often --png writes a frame: give --png DIR too");
+    }
+    return options;
+}
+
+std::string HelpText(const char* program)
+{
+    std::string text = std::string("usage: ") + program + R"( [options]
+
+Steps one scene of quadphase's scene library with the quadtree broadphase or with Box2D's stock
+b2DynamicTree, prints a one-line summary per second of simulated time and, with --png, renders frames
+(bodies, and in the quadtree build the quadtree's occupied cells) and optionally a GIF or MP4 (ffmpeg).
+
+options:
+  --scene NAME          scene to step (default rain); see the list below
+  --size N              scene size (default: the scene's default; ranges below)
+  --steps N             steps to take, 1/60 s each (default 600)
+  --seed N              scene seed, 0..4294967295 (default 1)
+  --broadphase KIND     quadtree (default): Box2D 2.4.1 with quadphase's quadtree (quadphase::box2d);
+                        stock: untouched Box2D 2.4.1 (no quadtree, so no overlay)
+  --png DIR             write frames DIR/frame_00000.png, ... (DIR is created if missing); the first
+                        frame shows the world before the first step
+  --every N             with --png: a frame every N steps (default 10)
+  --width W, --height H frame size in pixels, 16..8192 (default 800 x 600)
+  --view MINX,MINY,MAXX,MAXY
+                        world rectangle to draw, metres (default: the bounds of the bodies at the start,
+                        leaving out fixtures more than 2 km across, such as mixed's ground)
+  --no-overlay          do not draw the quadtree's cells
+  --gif FILE.gif        after the run, make an animated GIF of the frames with ffmpeg (needs --png)
+  --mp4 FILE.mp4        after the run, make an H.264 MP4 of the frames with ffmpeg (needs --png)
+  --fps N               animation frames per second, 1..120 (default 30)
+  --quiet               no per-second summary lines (the final summary is still printed)
+  --help, -h            this text
+
+The per-second line: simulated time, bodies, awake bodies, contacts, new pairs in that second (pairs that
+reached Box2D's contact filter: the same count in both builds) and the mean broadphase milliseconds per step
+(b2Profile::broadphase: synchronising proxies and finding new pairs).
+
+Overlay: every occupied quadtree cell is filled with its level's colour, more opaque the more proxies it
+holds (relative to the fullest cell); the legend lists the levels in use with their occupied cells.
+
+Exit status: 0 on success, 1 on a run-time failure (cannot write a frame, ffmpeg failed), 2 on bad options.
+
+scenes:
+)";
+    for (const scenes::SceneInfo& info : scenes::AllScenes())
+    {
+        std::string name = info.name;
+        name.resize(11, ' ');
+        text += "  " + name + info.description + "\n";
+        text += "             size = " + std::string(info.sizeMeaning) + ", " + std::to_string(info.minSize) +
+                ".." + std::to_string(info.maxSize) + ", default " + std::to_string(info.defaultSize) + "\n";
+    }
+    return text;
+}
+
+} // namespace quadphase::scene_cli
