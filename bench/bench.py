@@ -450,7 +450,8 @@ def step_table(step):
         name = "stock" if variant == "stock" else f"quadtree-{threads}t"
         row = {"scene": scene, "size": size, "engine": name, "rounds": len(runs)}
         for k in ("step_ms", "collide_ms", "solve_ms", "broadphase_ms", "toi_ms", "contacts_mean",
-                  "new_pairs_per_step", "pairs_reported_per_step", "peak_rss_bytes", "bp_bytes_per_proxy", "proxies",
+                  "new_pairs_per_step", "pairs_reported_per_step", "qt_find_ms_per_step", "peak_rss_bytes",
+                  "bp_bytes_per_proxy", "proxies",
                   "bodies"):
             row[k] = med([x.get(k) for x in runs])
         out[(scene, size, name)] = row
@@ -529,7 +530,7 @@ def report(args, info, rows):
     write_csv(os.path.join(res, "step.csv"), step_rows,
               ["scene", "size", "engine", "rounds", "bodies", "proxies", "step_ms", "collide_ms", "solve_ms",
                "broadphase_ms", "toi_ms", "contacts_mean", "new_pairs_per_step", "pairs_reported_per_step",
-               "peak_rss_bytes", "bp_bytes_per_proxy"])
+               "qt_find_ms_per_step", "peak_rss_bytes", "bp_bytes_per_proxy"])
     write_csv(os.path.join(res, "replay.csv"), replay_rows,
               ["scene", "size", "trace", "engine", "rounds", "mean_proxies", "ms_per_step", "ns_per_proxy_step",
                "pairs_per_step", "bytes_per_proxy", "exact", "missed_pct", "duplicates_pct", "levels"])
@@ -855,7 +856,7 @@ def markdown(args, info, step_rows, replay_rows, circle_rows, plots):
                 if e == "paper" and r.get("missed_pct") is not None:
                     ex = (f"no: misses {r['missed_pct']:.2f}% of the pairs, {r['duplicates_pct']:.2f}% duplicates "
                           f"(levels {r.get('levels')})")
-                sp = ratio(a and a["ms_per_step"], r["ms_per_step"]) if e != "stock" else None
+                sp = ratio(a and a["ms_per_step"], r["ms_per_step"]) if e not in ("stock", "floor", "null") else None
                 L.append(f"| {s} {n} | {ENGINE_LABEL[e]} | {fmt(r['ms_per_step'], 3)} | {fmt(r['ns_per_proxy_step'], 1)} | "
                          f"{fmt(sp) + '×' if sp else ''} | {fmt(r['pairs_per_step'], 0) if e not in ('floor', 'null') else ''} | "
                          f"{fmt(r['bytes_per_proxy'], 0) if e not in ('floor', 'null') else ''} | {ex} |")

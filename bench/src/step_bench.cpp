@@ -10,7 +10,8 @@
 // per timed step, the median and the mean of Box2D's own b2Profile fields (step, collide, solve, broadphase,
 // solveTOI; milliseconds), the mean contact count, the new pairs per step that reached Box2D's contact filter
 // (the same count in both builds), the process's peak resident memory (VmHWM) and, for the quadtree build,
-// the quadtree's pairs reported, heap bytes per proxy (Stats::memoryBytes) and threads. --threads sets
+// the quadtree's pairs reported, FindPairs time per step (Stats::pairSeconds), heap bytes per proxy
+// (Stats::memoryBytes) and threads. --threads sets
 // quadphase::Config::threads (0: OpenMP's default); the stock build accepts only 1.
 //
 // b2Profile::broadphase is the time b2World::Solve spends after the solver synchronising fixtures (MoveProxy
@@ -209,6 +210,7 @@ int main(int argc, char** argv)
     const quadphase::Stats st = quadphase::GetStats(world);
     j.Num("pairs_reported_per_step", double(st.pairsReported) / steps)
         .Int("qt_depth", st.depth)
+        .Num("qt_find_ms_per_step", 1000.0 * st.pairSeconds / steps)
         .Int("bp_bytes", st.memoryBytes)
         .Num("bp_bytes_per_proxy", double(st.memoryBytes) / std::max(1, st.proxyCount));
 #endif
