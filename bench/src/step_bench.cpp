@@ -11,8 +11,8 @@
 // solveTOI; milliseconds), the mean contact count, the new pairs per step that reached Box2D's contact filter
 // (the same count in both builds), the process's peak resident memory (VmHWM) and, for the quadtree build,
 // the quadtree's pairs reported, FindPairs time per step (Stats::pairSeconds), heap bytes per proxy
-// (Stats::memoryBytes) and threads. --threads sets
-// quadphase::Config::threads (0: OpenMP's default); the stock build accepts only 1.
+// (Stats::memoryBytes) and threads. --threads sets quadphase::Config::threads (0: OpenMP's default); the stock
+// build accepts only 1.
 //
 // b2Profile::broadphase is the time b2World::Solve spends after the solver synchronising fixtures (MoveProxy
 // of every awake body's proxies) and in FindNewContacts (UpdatePairs, its AddPair callbacks creating
