@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# Sanitizer run: builds the whole test suite with clang-14, AddressSanitizer and UndefinedBehaviorSanitizer (both
+# Box2D builds, the core, the adapter, the scenes and every test program) and runs it with CTest. Any sanitizer
+# report fails the test it happens in (-fno-sanitize-recover, halt_on_error), so a green run means no report.
+#
+# Left out, and why:
+#   - the package tests (label "package", QUADPHASE_PACKAGE_TESTS=OFF): they install and rebuild the project with
+#     the consumer's own flags; they test packaging, not memory, and would compile Box2D a third time.
+#   - benchmarks and examples (QUADPHASE_BUILD_BENCH/EXAMPLES=OFF): no tests; the scene library they share is
+#     built for the tests anyway.
+# -O1 keeps the instrumented suite fast enough for CI; NDEBUG is not defined (debug-build semantics), except where
+# a test program defines its own error handler, which all bad-input tests do.
+#
+# Exit status: non-zero when a test fails or a sanitizer reports.
+# Environment: BUILD_DIR (default build-asan), JOBS (default nproc), QUADPHASE_SKIP_DEPS=1,
+#              QUADPHASE_BOX2D_SOURCE_DIR / QUADPHASE_BOX2D_TARBALL as for scripts/test.sh.
+# Extra arguments are passed to ctest (e.g. -R robustness).
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+
+if [[ "${QUADPHASE_SKIP_DEPS:-0}" != 1 ]]; then
+    scripts/install-deps.sh >&2
+fi
+
+build_dir=${BUILD_DIR:-build-asan}
+jobs=${JOBS:-$(nproc 2>/dev/null || echo 2)}
+llvm_lib=/usr/lib/llvm-14/lib
+
+sanitizers="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer"
+configure_args=(-S . -B "$build_dir"
+    -DCMAKE_BUILD_TYPE=RelWithDebInfo
+    -DCMAKE_CXX_COMPILER=clang++-14
+    "-DCMAKE_CXX_FLAGS=$sanitizers"
+    "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g"
+    "-DCMAKE_EXE_LINKER_FLAGS=$sanitizers -Wl,-rpath,$llvm_lib"
+    -DQUADPHASE_BUILD_BENCH=OFF -DQUADPHASE_BUILD_EXAMPLES=OFF -DQUADPHASE_INSTALL=OFF
+    -DQUADPHASE_PACKAGE_TESTS=OFF)
+[[ -n "${QUADPHASE_BOX2D_SOURCE_DIR:-}" ]] && configure_args+=("-DQUADPHASE_BOX2D_SOURCE_DIR=$QUADPHASE_BOX2D_SOURCE_DIR")
+[[ -n "${QUADPHASE_BOX2D_TARBALL:-}" ]] && configure_args+=("-DQUADPHASE_BOX2D_TARBALL=$QUADPHASE_BOX2D_TARBALL")
+
+export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1"
+export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
+export OMP_NUM_THREADS=2
+
+set -x
+cmake "${configure_args[@]}"
+cmake --build "$build_dir" -j "$jobs"
+ctest --test-dir "$build_dir" --output-on-failure -j "$jobs" --timeout 1200 "$@"
+set +x
+echo "sanitize: AddressSanitizer + UndefinedBehaviorSanitizer found nothing; every test passed"

@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Soak run: 100,000 steps of a churn world (bodies created and destroyed every step) with the quadphase build,
+# printing resident memory (VmRSS, VmHWM) at the start, every INTERVAL steps and at the end (bench/soak/soak.cpp).
+# Not run by CI (a few minutes on 2 cores). Figures: docs/robustness.md.
+#
+# Exit status: non-zero when resident memory at the end exceeds the post-warm-up figure by more than 10%, or when
+# validation (VALIDATE=1) finds a mismatch.
+# Environment: STEPS (default 100000), SIZE (default 250 bodies), INTERVAL (default 10000), SEED (default 1),
+#              VALIDATE=1 (shadow-tree validation on every step; doubles the broadphase cost),
+#              VARIANT=stock (the same run with stock Box2D, for comparison),
+#              BUILD_DIR (default build-soak), JOBS (default nproc), QUADPHASE_SKIP_DEPS=1,
+#              QUADPHASE_BOX2D_SOURCE_DIR / QUADPHASE_BOX2D_TARBALL as for scripts/test.sh.
+# Extra arguments are passed to qp-soak.
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+
+if [[ "${QUADPHASE_SKIP_DEPS:-0}" != 1 ]]; then
+    scripts/install-deps.sh >&2
+fi
+
+build_dir=${BUILD_DIR:-build-soak}
+jobs=${JOBS:-$(nproc 2>/dev/null || echo 2)}
+target=qp-soak
+[[ "${VARIANT:-quadphase}" == stock ]] && target=qp-soak-stock
+
+configure_args=(-S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release)
+[[ -n "${QUADPHASE_BOX2D_SOURCE_DIR:-}" ]] && configure_args+=("-DQUADPHASE_BOX2D_SOURCE_DIR=$QUADPHASE_BOX2D_SOURCE_DIR")
+[[ -n "${QUADPHASE_BOX2D_TARBALL:-}" ]] && configure_args+=("-DQUADPHASE_BOX2D_TARBALL=$QUADPHASE_BOX2D_TARBALL")
+
+cmake "${configure_args[@]}" >/dev/null
+cmake --build "$build_dir" -j "$jobs" --target "$target"
+
+args=(--steps "${STEPS:-100000}" --size "${SIZE:-250}" --interval "${INTERVAL:-10000}" --seed "${SEED:-1}")
+[[ "${VALIDATE:-0}" == 1 ]] && args+=(--validate)
+start=$(date +%s)
+"$build_dir/bench/soak/$target" "${args[@]}" "$@"
+echo "soak: $(( $(date +%s) - start )) s wall"
