@@ -105,7 +105,8 @@ class PaperChecked
 public:
     PaperChecked(int levels, const Box& bounds, int threads)
         : m_paper(levels, bounds, threads, quadphase::Schedule::Static,
-                  quadphase::bench::PaperPairReport::Buffered)
+                  quadphase::bench::PaperPairReport::Buffered),
+          m_ref(quadphase::FatPolicy{}, SerialConfig())
     {
     }
     int32_t Create(const Box& tight, int32_t recorded)
@@ -167,6 +168,13 @@ public:
     int64_t missed = 0, duplicates = 0, extra = 0, exact = 0;
 
 private:
+    static quadphase::Config SerialConfig()
+    {
+        quadphase::Config c;
+        c.threads = 1; // the reference need not be fast; one thread keeps it off a busy machine's other core
+        return c;
+    }
+
     InterfaceEngine<quadphase::bench::PaperQuadtreeBroadPhase> m_paper;
     InterfaceEngine<quadphase::QuadtreeBroadPhase> m_ref;
     std::vector<int32_t> m_refId;
