@@ -21,7 +21,7 @@ packages=(
     libcairo2-dev fonts-dejavu-core  # PNG frames of quadphase-scene (examples/scene_cli) and their text
     ffmpeg                  # GIF/MP4 animations of quadphase-scene; screenshots of the testbed (x11grab)
     libgl-dev libx11-dev libxrandr-dev libxinerama-dev libxcursor-dev libxi-dev  # Box2D testbed's glfw (-DQUADPHASE_TESTBED=ON)
-    xvfb xauth libgl1-mesa-dri  # scripts/testbed-screenshot.sh: virtual X server, Mesa software OpenGL
+    xvfb xauth libgl1-mesa-dri xdotool  # scripts/testbed-screenshot.sh: virtual X server, Mesa software GL, key presses
     libchipmunk-dev libbullet-dev  # bench/: Chipmunk2D's spatial hash and BB tree, Bullet's btDbvtBroadphase (replay comparison)
     "$@"
 )

@@ -6,6 +6,8 @@
 #   scripts/testbed-screenshot.sh "Add Pair" "Tumbler"     # one screenshot per sample
 #   scripts/testbed-screenshot.sh --list                   # the samples, in the testbed's order
 #   BROADPHASE=stock scripts/testbed-screenshot.sh Tiles   # the same testbed on Box2D's b2DynamicTree
+#   XDOTOOL="mousemove 40 137 click 1 mousemove 40 183 click 1" scripts/testbed-screenshot.sh "Ray Cast"
+#                                                          # click the sample's buttons first (here: add shapes)
 #
 # A sample is picked by writing its index into settings.ini in a scratch working directory (the testbed reads
 # its current sample from there). The testbed runs for SECONDS wall seconds before the screenshot; under
@@ -16,6 +18,8 @@
 #   OUT_DIR                     screenshots (default: $BUILD_DIR/testbed-screenshots)
 #   SECONDS_BEFORE_SHOT         wall seconds to let the sample run (default 20)
 #   SIZE                        screen size WxH (default 1280x800)
+#   XDOTOOL                     an xdotool command chain run 2 s after the start (mouse clicks on the samples'
+#                               buttons, keys such as "key z" to zoom out); see xdotool(1)
 #   BROADPHASE                  quadtree (default) or stock
 #   QUADPHASE_SKIP_DEPS=1       do not run scripts/install-deps.sh
 #   QUADPHASE_SKIP_BUILD=1      do not configure/build (use the testbed already in BUILD_DIR)
@@ -85,7 +89,9 @@ fi
 names=("$@")
 [[ ${#names[@]} -eq 0 ]] && names=("Tiles")
 
-for cmd in Xvfb ffmpeg; do
+needed=(Xvfb ffmpeg)
+[[ -n "${XDOTOOL:-}" ]] && needed+=(xdotool)
+for cmd in "${needed[@]}"; do
     command -v "$cmd" >/dev/null || { echo "testbed-screenshot: $cmd not found (scripts/install-deps.sh)" >&2; exit 1; }
 done
 mkdir -p "$out_dir"
@@ -137,6 +143,11 @@ INI
     (cd "$work/run" && DISPLAY=":$display" LIBGL_ALWAYS_SOFTWARE=1 GALLIUM_DRIVER=llvmpipe exec "$testbed") \
         >"$log" 2>&1 &
     testbed_pid=$!
+    if [[ -n "${XDOTOOL:-}" ]]; then
+        sleep 2
+        # shellcheck disable=SC2086 # one argument per word of the command chain
+        DISPLAY=":$display" xdotool ${XDOTOOL} || echo "testbed-screenshot: xdotool failed" >&2
+    fi
     sleep "$wait_seconds"
     if ! kill -0 "$testbed_pid" 2>/dev/null; then
         wait "$testbed_pid" || true
