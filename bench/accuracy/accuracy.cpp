@@ -405,6 +405,7 @@ int main(int argc, char** argv)
 
     double stepSeconds = 0.0;
     int64_t checks = 0, overlapping = 0, missed = 0, missedMax = 0, checksWithMiss = 0, missedNew = 0;
+    int64_t missedStatic = 0; // missed pairs with a static body (grounds, walls, tiles)
     // Missed pairs of the previous check: a pair that stays missed for many checks (two bodies passing
     // through each other) is counted once in missedNew, at the check where it starts being missed.
     using Child = std::pair<const b2Fixture*, int32>;
@@ -428,6 +429,9 @@ int main(int argc, char** argv)
             std::set<std::pair<Child, Child>> nowMissed;
             for (const auto& pair : m.missedPairs)
             {
+                if (pair.first.fixture->GetBody()->GetType() == b2_staticBody ||
+                    pair.second.fixture->GetBody()->GetType() == b2_staticBody)
+                    ++missedStatic;
                 const Child a{pair.first.fixture, pair.first.child};
                 const Child b{pair.second.fixture, pair.second.child};
                 nowMissed.insert(std::less<Child>()(a, b) ? std::make_pair(a, b) : std::make_pair(b, a));
@@ -507,6 +511,7 @@ int main(int argc, char** argv)
     add("overlapping", std::to_string(overlapping));
     add("missed", std::to_string(missed));
     add("missed_new", std::to_string(missedNew));
+    add("missed_static", std::to_string(missedStatic));
     add("missed_max", std::to_string(missedMax));
     add("checks_with_miss", std::to_string(checksWithMiss));
     add("pen_max", JsonNumber(penMax));
