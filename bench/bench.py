@@ -18,6 +18,7 @@ import argparse
 import csv
 import hashlib
 import json
+import math
 import os
 import random
 import statistics
@@ -574,7 +575,8 @@ def figures(res, step_rows, replay_rows, circle_rows):
             ax.axhline(1.0, color="black", lw=0.8)
             ax.set_yscale("log")
             ax.yaxis.set_major_formatter(FuncFormatter(lambda y, _: f"{y:g}×"))
-            ax.yaxis.set_minor_formatter(FuncFormatter(lambda y, _: f"{y:g}×" if round(y * 10) % 5 == 0 else ""))
+            ax.yaxis.set_minor_formatter(FuncFormatter(
+                lambda y, _: f"{y:g}×" if y > 0 and round(y / 10 ** math.floor(math.log10(y))) in (2, 5) else ""))
             ax.set_ylabel("stock time / quadtree time")
             ax.set_title(title + ": > 1 means quadphase is faster")
             ax.legend(fontsize=8)
