@@ -84,7 +84,7 @@ def parse_args():
     ap.add_argument("--summary", default=os.path.join(HERE, "RESULTS.md"), help="markdown summary (bench/RESULTS.md)")
     ap.add_argument("--work", default=None, help="traces, raw JSON lines, logs (default BUILD_DIR/tmp/bench)")
     ap.add_argument("--parts", default="step,replay,circles", help="subset of step,replay,circles")
-    ap.add_argument("--rounds", type=int, default=None, help="timed rounds (quick 3, full 5)")
+    ap.add_argument("--rounds", type=int, default=None, help="timed rounds (quick 3, full 4)")
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--rerecord", action="store_true", help="record traces even when a matching one exists")
     ap.add_argument("--wait-quiet", type=float, default=None,
@@ -97,7 +97,7 @@ def parse_args():
     ap.add_argument("--report-only", action="store_true", help="rewrite the outputs from the last run's raw results")
     a = ap.parse_args()
     a.profile = "full" if a.full else "quick"
-    a.rounds = a.rounds or (5 if a.full else 3)
+    a.rounds = a.rounds or (4 if a.full else 3)
     a.wait_quiet = a.wait_quiet if a.wait_quiet is not None else (20.0 if a.full else 3.0)
     a.circles_seconds = a.circles_seconds or (40.0 if a.full else 10.0)
     a.parts = set(p.strip() for p in a.parts.split(",") if p.strip())
