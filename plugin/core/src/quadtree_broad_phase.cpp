@@ -129,7 +129,7 @@ bool QuadtreeBroadPhase::MoveProxy(ProxyId id, const Box& tight, Vec2 displaceme
     return true;
 }
 
-void QuadtreeBroadPhase::QueueMove(ProxyId id, const Box& tight, Vec2 displacement)
+void QuadtreeBroadPhase::QueueMoveSlow(ProxyId id, const Box& tight, Vec2 displacement)
 {
     if (!m_pool.CheckLive(id, "MoveProxy"))
     {
@@ -170,40 +170,57 @@ void QuadtreeBroadPhase::ApplyQueued(int threads)
         return;
     }
     const Clock::time_point start = Clock::now();
-    m_queuedChanged.resize(size_t(count));
-    // Each proxy is queued at most once, so the fat-box tests touch disjoint boxes and can run on any thread.
-    auto test = [&](int64_t i) {
-        const QueuedMove& move = m_queued[size_t(i)];
-        m_queuedChanged[size_t(i)] = Refatten(m_policy, m_pool.Fat(move.id), move.tight, move.displacement) ? 1 : 0;
-    };
-    if (threads > 1 && count >= int64_t(m_config.parallelThreshold))
+    // Each proxy is queued at most once, so the fat-box tests touch disjoint boxes and flags and can run on any
+    // thread. Thread t tests a contiguous range of the queue (static schedule) and lists, in order, the moves that
+    // gave a new fat box; the lists joined in thread order are in queue order whatever the thread count.
+    const int team = threads > 1 && count >= int64_t(m_config.parallelThreshold) ? threads : 1;
+    if (int(m_threadChanged.size()) < team)
     {
-#pragma omp parallel for schedule(static) num_threads(threads)
-        for (int64_t i = 0; i < count; ++i)
+        m_threadChanged.resize(size_t(team));
+    }
+    const QueuedMove* queued = m_queued.data();
+    Box* fat = m_pool.MutableFatData();
+    const FatPolicy policy = m_policy;
+    ProxyPool& pool = m_pool;
+    auto testRange = [&](int64_t begin, int64_t end, std::vector<int32_t>& changed) {
+        changed.clear();
+        for (int64_t i = begin; i < end; ++i)
         {
-            test(i);
+            const QueuedMove& move = queued[i];
+            pool.ClearPending(move.id);
+            if (Refatten(policy, fat[move.id], move.tight, move.displacement))
+            {
+                changed.push_back(int32_t(i));
+            }
         }
+    };
+    if (team > 1)
+    {
+#pragma omp parallel num_threads(team)
+        {
+            const int64_t t = omp_get_thread_num();
+            const int64_t n = omp_get_num_threads();
+            testRange(count * t / n, count * (t + 1) / n, m_threadChanged[size_t(t)]);
+        }
+        // With fewer threads than asked for, the ranges still cover the queue; the unused lists stay empty.
     }
     else
     {
-        for (int64_t i = 0; i < count; ++i)
-        {
-            test(i);
-        }
+        testRange(0, count, m_threadChanged[0]);
     }
     // In queue order, so the stale list and the move buffer are the ones MoveProxy calls would have built.
-    for (int64_t i = 0; i < count; ++i)
+    for (int t = 0; t < team; ++t)
     {
-        const ProxyId id = m_queued[size_t(i)].id;
-        m_pool.ClearPending(id);
-        if (m_queuedChanged[size_t(i)] != 0)
+        for (int32_t i : m_threadChanged[size_t(t)])
         {
+            const ProxyId id = queued[i].id;
             if (m_pool.MarkStale(id))
             {
                 m_stale.push_back(id);
             }
             m_pool.Buffer(id);
         }
+        m_threadChanged[size_t(t)].clear();
     }
     m_queued.clear();
     m_hasQueued.store(false, std::memory_order_release);
@@ -584,8 +601,16 @@ Stats QuadtreeBroadPhase::GetStats() const
     {
         s.proxiesPerLevel[size_t(level)] = m_pyramid.LevelCount(level);
     }
-    s.memoryBytes = m_pool.MemoryBytes() + m_pyramid.MemoryBytes() + int64_t(m_work.capacity() * sizeof(ProxyId)) +
-                    int64_t(m_blockPairs.capacity() * sizeof(std::vector<Pair>));
+    // Every heap byte held, working buffers included (their capacity, not their size).
+    s.memoryBytes = m_pool.MemoryBytes() + m_pyramid.MemoryBytes() +
+                    int64_t((m_work.capacity() + m_stale.capacity() + m_batch.capacity()) * sizeof(ProxyId)) +
+                    int64_t(m_queued.capacity() * sizeof(QueuedMove)) +
+                    int64_t(m_blockPairs.capacity() * sizeof(std::vector<Pair>)) +
+                    int64_t(m_threadChanged.capacity() * sizeof(std::vector<int32_t>));
+    for (const std::vector<int32_t>& changed : m_threadChanged)
+    {
+        s.memoryBytes += int64_t(changed.capacity() * sizeof(int32_t));
+    }
     for (const std::vector<Pair>& pairs : m_blockPairs)
     {
         s.memoryBytes += int64_t(pairs.capacity() * sizeof(Pair));

@@ -90,6 +90,16 @@ public:
     void ClearPending(ProxyId id) { m_state[size_t(id)] &= uint8_t(~kPending); }
     bool IsPending(ProxyId id) const { return (m_state[size_t(id)] & kPending) != 0; }
 
+    /// True when `id` is live and has no queued move: QuadtreeBroadPhase::QueueMove's common case, one load.
+    bool IsLiveAndNotPending(ProxyId id) const
+    {
+        return id >= 0 && id < ProxyId(m_state.size()) && (m_state[size_t(id)] & (kLive | kPending)) == kLive;
+    }
+
+    /// The fat boxes and state flags for loops that run on several threads over distinct ids (valid until the
+    /// next Allocate). Flags: see MarkPending, MarkStale.
+    Box* MutableFatData() { return m_fat.data(); }
+
     /// True while `id` is in the work list taken by TakeBuffer. A pair of two such proxies is reported by the
     /// smaller id only, so that every pair is reported once.
     bool InWork(ProxyId id) const { return (m_state[size_t(id)] & kInWork) != 0; }
