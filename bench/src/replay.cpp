@@ -23,6 +23,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <type_traits>
 #include <string>
 
 #include <omp.h>
@@ -145,6 +146,14 @@ public:
     void Destroy(int32_t id) { m_bp.DestroyProxy(id); }
     void Move(int32_t id, const Box& tight, Vec2 d)
     {
+        if constexpr (std::is_same_v<BP, quadphase::QuadtreeBroadPhase>)
+        {
+            if (!m_track)
+            {
+                m_bp.QueueMove(id, tight, d); // what the Box2D adapter calls (b2BroadPhase::MoveProxy)
+                return;
+            }
+        }
         const bool buffered = m_bp.MoveProxy(id, tight, d);
         if (m_track && buffered)
         {

@@ -138,6 +138,7 @@ struct HarnessSettings
     bool queries = true;   // include Query and RayCast checks
     bool timing = false;   // QuadtreeBroadPhase::SetTiming
     int validateEvery = 8; // Validate() after every n-th operation (and after every FindPairs)
+    bool queueMoves = false; // move the quadtree's proxies with QueueMove (as the Box2D adapter does)
 };
 
 inline std::string Describe(const HarnessSettings& s)
@@ -146,7 +147,8 @@ inline std::string Describe(const HarnessSettings& s)
     os << "seed=" << s.seed << " dist=" << DistName(s.dist) << " depth=" << s.config.depth
        << " autoBounds=" << s.config.autoBounds << " bounds=" << Str(s.config.bounds)
        << " extension=" << s.policy.extension << " multiplier=" << s.policy.multiplier << " world=" << s.world
-       << " target=" << s.targetProxies << " ops=" << s.operations << " shifts=" << s.shifts;
+       << " target=" << s.targetProxies << " ops=" << s.operations << " shifts=" << s.shifts
+       << " queueMoves=" << s.queueMoves;
     return os.str();
 }
 
@@ -315,6 +317,19 @@ public:
 
     bool Move(ProxyId id, const Box& tight, Vec2 displacement)
     {
+        if (m_settings.queueMoves)
+        {
+            // No answer to compare: the quadtree applies the move later (at FindPairs, or when something reads a
+            // fat box first). Its fat box is compared after the next FindPairs, its pairs at that FindPairs.
+            m_qt.QueueMove(id, tight, displacement);
+            const bool b = m_bf.MoveProxy(id, tight, displacement);
+            m_queued.push_back(id);
+            m_tight[size_t(id)] = tight;
+            m_buffered[size_t(id)] |= b ? 1 : 0;
+            m_totals.moves += 1;
+            m_totals.refattens += b ? 1 : 0;
+            return b;
+        }
         const Box before = m_bf.GetFatBox(id);
         const bool a = m_qt.MoveProxy(id, tight, displacement);
         const bool b = m_bf.MoveProxy(id, tight, displacement);
@@ -360,6 +375,15 @@ public:
         std::vector<Pair> bf;
         m_qt.FindPairs(qt);
         m_bf.FindPairs(bf);
+        QP_REQUIRE_MSG(m_qt.QueuedMoveCount() == 0, Where() << "FindPairs left queued moves");
+        for (ProxyId id : m_queued)
+        {
+            if (IsLive(id))
+            {
+                CheckFat(id, "QueueMove");
+            }
+        }
+        m_queued.clear();
         std::fill(m_buffered.begin(), m_buffered.end(), uint8_t(0));
         if (m_record)
         {
@@ -663,6 +687,7 @@ private:
     std::vector<ProxyId> m_live;
     std::vector<uint8_t> m_liveFlag;
     std::vector<uint8_t> m_buffered; // oracle: created, refattened or touched since the last FindPairs
+    std::vector<ProxyId> m_queued;   // ids moved with QueueMove since the last FindPairs (may repeat)
     std::vector<Box> m_tight;
     std::vector<void*> m_user;
     HarnessTotals m_totals;

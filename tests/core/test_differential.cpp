@@ -64,6 +64,7 @@ HarnessTotals RunDistribution(Dist dist, int reps, uint32_t salt, bool shifts)
         {
             HarnessSettings s = CaseSettings(dist, depth, rep, salt);
             s.shifts = shifts;
+            s.queueMoves = rep % 2 == 1; // half the cases move as the Box2D adapter does
             // the deep fixed pyramids cost O(cells) per Validate: validate them at FindPairs only
             if (depth >= 8)
             {

@@ -14,8 +14,9 @@ namespace
 {
 
 std::vector<std::vector<Pair>> PairHistory(HarnessSettings s, int threads, Schedule schedule, int chunk,
-                                           int64_t& parallelCalls)
+                                           int64_t& parallelCalls, bool queueMoves = false)
 {
+    s.queueMoves = queueMoves;
     s.config.threads = threads;
     s.config.schedule = schedule;
     s.config.chunk = chunk;
@@ -67,6 +68,32 @@ TEST_CASE("Parallel FindPairs equals the serial loop at 1-4 threads under every 
                     REQUIRE(parallel == serial);
                 }
             }
+        }
+    }
+}
+
+TEST_CASE("Queued moves give MoveProxy's pairs in MoveProxy's order, applied on 1-4 threads", "[parallel]")
+{
+    for (Dist dist : {Dist::Uniform, Dist::Clustered})
+    {
+        HarnessSettings s;
+        s.seed = 93000u + uint32_t(int(dist));
+        s.dist = dist;
+        s.targetProxies = 800; // batches of up to 266 moves: above the (zero) threshold, so applied in parallel
+        s.operations = 2500;
+        s.validateEvery = 500;
+        s.shifts = true;
+        INFO("case: " << Describe(s));
+
+        int64_t parallelCalls = 0;
+        const std::vector<std::vector<Pair>> immediate = PairHistory(s, 1, Schedule::Static, 0, parallelCalls);
+        REQUIRE(immediate.size() > 50);
+        for (int threads = 1; threads <= 4; ++threads)
+        {
+            CAPTURE(threads);
+            const std::vector<std::vector<Pair>> queued =
+                PairHistory(s, threads, Schedule::Dynamic, 1, parallelCalls, true);
+            REQUIRE(queued == immediate);
         }
     }
 }

@@ -85,10 +85,11 @@ void b2BroadPhase::MoveProxy(int32 proxyId, const b2AABB& aabb, const b2Vec2& di
     {
         m_trace->Add({quadphase::TraceOp::Move, proxyId, quadphase::detail::ToBox(aabb), {displacement.x, displacement.y}});
     }
-    const bool moved = m_core.MoveProxy(proxyId, quadphase::detail::ToBox(aabb), {displacement.x, displacement.y});
+    // Queued: Box2D moves its bodies one by one on this thread; the fat-AABB tests run in parallel in UpdatePairs.
+    m_core.QueueMove(proxyId, quadphase::detail::ToBox(aabb), {displacement.x, displacement.y});
     if (m_shadow != nullptr && m_core.GetPool().IsLive(proxyId))
     {
-        m_shadow->OnMove(proxyId, aabb, displacement, moved);
+        m_shadow->OnMove(proxyId, aabb, displacement);
     }
 }
 

@@ -39,15 +39,10 @@ void ProxyPool::Free(ProxyId id)
     --m_liveCount;
 }
 
-bool ProxyPool::CheckLive(ProxyId id, const char* call) const
+void ProxyPool::ReportUnknown(ProxyId id, const char* call) const
 {
-    if (IsLive(id))
-    {
-        return true;
-    }
     ReportError(ErrorCode::UnknownProxy, "%s: proxy id %d is %s", call, int(id),
                 (id >= 0 && id < IdBound()) ? "already destroyed" : "out of range");
-    return false;
 }
 
 void ProxyPool::TakeBuffer(std::vector<ProxyId>& work)

@@ -140,114 +140,124 @@ bool Pyramid::Update(ProxyId id, const Box& box)
 int64_t Pyramid::UpdateBatch(const std::vector<ProxyId>& ids, const Box* boxes, int threads)
 {
     const int64_t count = int64_t(ids.size());
-    m_plan.resize(size_t(count));
+    const int team = threads > 1 ? threads : 1;
+    if (int(m_changes.size()) < team)
+    {
+        m_changes.resize(size_t(team));
+    }
 
-    // A. Place one box; rewrite in place an entry that stays in its cell. Touches only that id's location and
-    //    entry. Returns the change of the outside count.
-    auto placeOne = [&](int64_t i) {
-        const ProxyId id = ids[size_t(i)];
-        const Box& box = boxes[id];
-        int level;
-        int32_t cell;
-        PlaceCell(box, level, cell);
-        Location& loc = m_location[size_t(id)];
-        const bool outside = !Inside(box);
-        const int32_t delta = int32_t(outside) - int32_t(loc.outside);
-        loc.outside = outside;
-        uint8_t kind = 2;
-        if (cell == loc.cell)
+    // A. Places the boxes of ids[begin, end); rewrites in place the entries that stay in their cell and lists the
+    //    others. Touches only these ids' locations and entries. Returns the change of the outside count.
+    auto place = [&](int64_t begin, int64_t end, std::vector<Change>& changes) {
+        changes.clear();
+        int32_t delta = 0;
+        for (int64_t i = begin; i < end; ++i)
         {
-            m_cells[size_t(cell)][size_t(loc.slot)].box = box;
-            kind = 0;
+            const ProxyId id = ids[size_t(i)];
+            const Box& box = boxes[id];
+            int level;
+            int32_t cell;
+            PlaceCell(box, level, cell);
+            Location& loc = m_location[size_t(id)];
+            const bool outside = !Inside(box);
+            delta += int32_t(outside) - int32_t(loc.outside);
+            loc.outside = outside;
+            if (cell == loc.cell)
+            {
+                m_cells[size_t(cell)][size_t(loc.slot)].box = box;
+            }
+            else
+            {
+                changes.push_back(Change{id, cell, int8_t(level), level == loc.level});
+            }
         }
-        else if (level == loc.level)
-        {
-            kind = 1;
-        }
-        m_plan[size_t(i)] = Plan{loc.cell, cell, int8_t(level), kind};
         return delta;
     };
     // B. Level changes are rare (a box changed size a lot); they also edit the shared level lists. One thread.
     auto moveLevels = [&]() {
-        int64_t changes = 0;
-        for (int64_t i = 0; i < count; ++i)
+        int64_t changed = 0;
+        for (int t = 0; t < team; ++t)
         {
-            const Plan& plan = m_plan[size_t(i)];
-            changes += plan.kind != 0 ? 1 : 0;
-            if (plan.kind == 2)
+            for (const Change& c : m_changes[size_t(t)])
             {
-                const ProxyId id = ids[size_t(i)];
-                const bool outside = m_location[size_t(id)].outside;
-                Remove(id);
-                Store(id, boxes[id], plan.toLevel, plan.toCell);
-                m_location[size_t(id)].outside = outside;
-                m_outsideCount += outside ? 1 : 0;
+                ++changed;
+                if (!c.sameLevel)
+                {
+                    const bool outside = m_location[size_t(c.id)].outside;
+                    Remove(c.id);
+                    Store(c.id, boxes[c.id], c.toLevel, c.toCell);
+                    m_location[size_t(c.id)].outside = outside;
+                    m_outsideCount += outside ? 1 : 0;
+                }
             }
         }
-        return changes;
+        return changed;
     };
-    // C and D. Cells are dealt to threads in runs of 16; every thread reads the whole plan in order and applies
-    // the operations of its own cells, so a cell's operations keep the plan's order whoever owns it.
-    auto leaveCells = [&](int team, int me) {
-        for (int64_t i = 0; i < count; ++i)
+    // C and D. Cells are dealt to threads in runs of 16; every thread reads all the lists in order and applies the
+    // operations of its own cells, so a cell's operations keep `ids` order whoever owns it. In C an entry's
+    // location still names its old cell (D rewrites it, after the barrier).
+    auto leaveCells = [&](int owners, int me) {
+        for (int t = 0; t < team; ++t)
         {
-            const Plan& plan = m_plan[size_t(i)];
-            if (plan.kind == 1 && (plan.fromCell >> 4) % team == me)
+            for (const Change& c : m_changes[size_t(t)])
             {
-                RemoveFromCell(ids[size_t(i)]);
+                if (c.sameLevel && (m_location[size_t(c.id)].cell >> 4) % owners == me)
+                {
+                    RemoveFromCell(c.id);
+                }
             }
         }
     };
-    auto joinCells = [&](int team, int me) {
-        for (int64_t i = 0; i < count; ++i)
+    auto joinCells = [&](int owners, int me) {
+        for (int t = 0; t < team; ++t)
         {
-            const Plan& plan = m_plan[size_t(i)];
-            if (plan.kind == 1 && (plan.toCell >> 4) % team == me)
+            for (const Change& c : m_changes[size_t(t)])
             {
-                const ProxyId id = ids[size_t(i)];
-                std::vector<Entry>& entries = m_cells[size_t(plan.toCell)];
-                Location& loc = m_location[size_t(id)];
-                loc.cell = plan.toCell;
-                loc.slot = int32_t(entries.size());
-                entries.push_back(Entry{boxes[id], id});
+                if (c.sameLevel && (c.toCell >> 4) % owners == me)
+                {
+                    std::vector<Entry>& entries = m_cells[size_t(c.toCell)];
+                    Location& loc = m_location[size_t(c.id)];
+                    loc.cell = c.toCell;
+                    loc.slot = int32_t(entries.size());
+                    entries.push_back(Entry{boxes[c.id], c.id});
+                }
             }
         }
     };
 
     int32_t outsideDelta = 0;
-    int64_t changes = 0;
-    if (threads <= 1)
+    int64_t changed = 0;
+    if (team == 1)
     {
         // The same phases in the same order, without any OpenMP call: small batches (the UpdatePairs after a
         // time-of-impact event) must not pay for a team.
-        for (int64_t i = 0; i < count; ++i)
-        {
-            outsideDelta += placeOne(i);
-        }
-        changes = moveLevels();
+        outsideDelta = place(0, count, m_changes[0]);
+        changed = moveLevels();
         leaveCells(1, 0);
         joinCells(1, 0);
     }
     else
     {
-#pragma omp parallel num_threads(threads)
+#pragma omp parallel num_threads(team) reduction(+ : outsideDelta)
         {
-#pragma omp for schedule(static) reduction(+ : outsideDelta)
-            for (int64_t i = 0; i < count; ++i)
-            {
-                outsideDelta += placeOne(i);
-            }
-#pragma omp single
-            changes = moveLevels(); // implicit barrier
-            const int team = omp_get_num_threads();
-            const int me = omp_get_thread_num();
-            leaveCells(team, me);
+            // With fewer threads than asked for, the ranges still cover `ids`; the unused lists stay empty.
+            const int64_t me = omp_get_thread_num();
+            const int64_t size = omp_get_num_threads();
+            outsideDelta += place(count * me / size, count * (me + 1) / size, m_changes[size_t(me)]);
 #pragma omp barrier
-            joinCells(team, me);
+#pragma omp single
+            changed = moveLevels(); // implicit barrier
+            leaveCells(int(size), int(me));
+#pragma omp barrier
+            joinCells(int(size), int(me));
         }
     }
+    for (std::vector<Change>& changes : m_changes)
+    {
+        changes.clear();
+    }
     m_outsideCount += outsideDelta;
-    return changes;
+    return changed;
 }
 
 void Pyramid::CountOccupancy(int64_t& occupied, int64_t& largest) const
@@ -274,6 +284,11 @@ int64_t Pyramid::MemoryBytes() const
         bytes += int64_t(list.capacity() * sizeof(ProxyId));
     }
     bytes += int64_t(m_location.capacity() * sizeof(Location));
+    bytes += int64_t(m_changes.capacity() * sizeof(std::vector<Change>));
+    for (const std::vector<Change>& changes : m_changes)
+    {
+        bytes += int64_t(changes.capacity() * sizeof(Change));
+    }
     return bytes;
 }
 

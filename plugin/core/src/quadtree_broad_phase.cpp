@@ -65,6 +65,7 @@ QuadtreeBroadPhase::QuadtreeBroadPhase(const FatPolicy& policy, const Config& co
 
 ProxyId QuadtreeBroadPhase::CreateProxy(const Box& tight, void* userData)
 {
+    ApplyQueuedIfAny(); // a re-tune below reads every fat box
     const Clock::time_point start = m_timing ? Clock::now() : Clock::time_point{};
     const Box fat = FattenNew(m_policy, tight);
     const ProxyId id = m_pool.Allocate(fat, userData);
@@ -90,6 +91,7 @@ void QuadtreeBroadPhase::DestroyProxy(ProxyId id)
     {
         return;
     }
+    ApplyQueuedIfAny(); // the id may be reused by the next CreateProxy: no queued move may outlive its proxy
     const Clock::time_point start = m_timing ? Clock::now() : Clock::time_point{};
     m_pyramid.Remove(id);
     m_pool.Free(id);
@@ -105,6 +107,7 @@ bool QuadtreeBroadPhase::MoveProxy(ProxyId id, const Box& tight, Vec2 displaceme
     {
         return false;
     }
+    ApplyQueuedIfAny(); // moves take effect in call order
     // Checked before Refatten: a bad box may lie inside the stored fat box, which is then kept, and must be
     // reported all the same.
     CheckBox(tight, "MoveProxy", id);
@@ -126,16 +129,116 @@ bool QuadtreeBroadPhase::MoveProxy(ProxyId id, const Box& tight, Vec2 displaceme
     return true;
 }
 
+void QuadtreeBroadPhase::QueueMoveSlow(ProxyId id, const Box& tight, Vec2 displacement)
+{
+    if (!m_pool.CheckLive(id, "MoveProxy"))
+    {
+        return;
+    }
+    CheckBox(tight, "MoveProxy", id);
+    const Clock::time_point start = m_timing ? Clock::now() : Clock::time_point{};
+    if (!m_pool.MarkPending(id))
+    {
+        // Moved twice before the queue was applied: the second move must see the first one's fat box.
+        ApplyQueued(1);
+        m_pool.MarkPending(id);
+    }
+    m_queued.push_back(QueuedMove{tight, displacement, id});
+    m_hasQueued.store(true, std::memory_order_release);
+    if (m_timing)
+    {
+        m_counters.updateSeconds += SecondsSince(start);
+    }
+}
+
+void QuadtreeBroadPhase::ApplyQueuedLocked() const
+{
+    std::lock_guard<std::mutex> lock(m_queueMutex);
+    if (m_hasQueued.load(std::memory_order_relaxed))
+    {
+        // Logically const: the fat boxes a caller observes are already defined by the calls made; applying the
+        // queue only brings the stored ones up to date.
+        const_cast<QuadtreeBroadPhase*>(this)->ApplyQueued(1);
+    }
+}
+
+void QuadtreeBroadPhase::ApplyQueued(int threads)
+{
+    const int64_t count = int64_t(m_queued.size());
+    if (count == 0)
+    {
+        return;
+    }
+    const Clock::time_point start = Clock::now();
+    // Each proxy is queued at most once, so the fat-box tests touch disjoint boxes and flags and can run on any
+    // thread. Thread t tests a contiguous range of the queue (static schedule) and lists, in order, the moves that
+    // gave a new fat box; the lists joined in thread order are in queue order whatever the thread count.
+    const int team = threads > 1 && count >= int64_t(m_config.parallelThreshold) ? threads : 1;
+    if (int(m_threadChanged.size()) < team)
+    {
+        m_threadChanged.resize(size_t(team));
+    }
+    const QueuedMove* queued = m_queued.data();
+    Box* fat = m_pool.MutableFatData();
+    const FatPolicy policy = m_policy;
+    ProxyPool& pool = m_pool;
+    auto testRange = [&](int64_t begin, int64_t end, std::vector<int32_t>& changed) {
+        changed.clear();
+        for (int64_t i = begin; i < end; ++i)
+        {
+            const QueuedMove& move = queued[i];
+            pool.ClearPending(move.id);
+            if (Refatten(policy, fat[move.id], move.tight, move.displacement))
+            {
+                changed.push_back(int32_t(i));
+            }
+        }
+    };
+    if (team > 1)
+    {
+#pragma omp parallel num_threads(team)
+        {
+            const int64_t t = omp_get_thread_num();
+            const int64_t n = omp_get_num_threads();
+            testRange(count * t / n, count * (t + 1) / n, m_threadChanged[size_t(t)]);
+        }
+        // With fewer threads than asked for, the ranges still cover the queue; the unused lists stay empty.
+    }
+    else
+    {
+        testRange(0, count, m_threadChanged[0]);
+    }
+    // In queue order, so the stale list and the move buffer are the ones MoveProxy calls would have built.
+    for (int t = 0; t < team; ++t)
+    {
+        for (int32_t i : m_threadChanged[size_t(t)])
+        {
+            const ProxyId id = queued[i].id;
+            if (m_pool.MarkStale(id))
+            {
+                m_stale.push_back(id);
+            }
+            m_pool.Buffer(id);
+        }
+        m_threadChanged[size_t(t)].clear();
+    }
+    m_queued.clear();
+    m_hasQueued.store(false, std::memory_order_release);
+    m_counters.updateSeconds += SecondsSince(start);
+}
+
 void QuadtreeBroadPhase::TouchProxy(ProxyId id)
 {
     if (m_pool.CheckLive(id, "TouchProxy"))
     {
+        ApplyQueuedIfAny(); // keeps the move buffer in call order
         m_pool.Buffer(id);
     }
 }
 
 const Box& QuadtreeBroadPhase::GetFatBox(ProxyId id) const
 {
+    ApplyQueuedIfAny();
     return m_pool.CheckLive(id, "GetFatAABB") ? m_pool.Fat(id) : kEmptyBox;
 }
 
@@ -150,6 +253,7 @@ bool QuadtreeBroadPhase::TestOverlap(ProxyId a, ProxyId b) const
     {
         return false;
     }
+    ApplyQueuedIfAny();
     return Overlaps(m_pool.Fat(a), m_pool.Fat(b));
 }
 
@@ -172,11 +276,12 @@ void QuadtreeBroadPhase::QueryPairsOf(ProxyId q, std::vector<Pair>& out) const
 void QuadtreeBroadPhase::FindPairs(std::vector<Pair>& out)
 {
     const Clock::time_point start = Clock::now();
+    const int threads = Threads();
+    ApplyQueued(threads);
     if (NeedsRetune())
     {
         Retune();
     }
-    const int threads = Threads();
     UpdateStaleEntries(threads);
     m_pool.TakeBuffer(m_work);
     const size_t before = out.size();
@@ -277,6 +382,7 @@ void QuadtreeBroadPhase::FindPairsParallel(std::vector<Pair>& out, int threads)
 
 void QuadtreeBroadPhase::Query(const Box& box, QueryFn fn, void* context) const
 {
+    ApplyQueuedIfAny();
     if (m_stale.empty())
     {
         m_pyramid.Visit(box, [&](const Entry& e) { return Overlaps(e.box, box) ? fn(context, e.id) : true; });
@@ -300,6 +406,7 @@ void QuadtreeBroadPhase::Query(const Box& box, QueryFn fn, void* context) const
 
 void QuadtreeBroadPhase::RayCast(const RayInput& input, RayCastFn fn, void* context) const
 {
+    ApplyQueuedIfAny();
     SegmentTest segment(input);
     // Visit reads the range of each level from this box, so clipping the ray shrinks the search of later levels.
     Box range = segment.Bounds();
@@ -341,6 +448,7 @@ void QuadtreeBroadPhase::RayCast(const RayInput& input, RayCastFn fn, void* cont
 
 void QuadtreeBroadPhase::ShiftOrigin(Vec2 newOrigin)
 {
+    ApplyQueuedIfAny(); // queued boxes are in the old frame
     m_pool.ShiftOrigin(newOrigin);
     // The world moved, so the region it lives in moves with it.
     const Box bounds = m_pyramid.Bounds();
@@ -353,6 +461,7 @@ void QuadtreeBroadPhase::ShiftOrigin(Vec2 newOrigin)
 
 void QuadtreeBroadPhase::Configure(const Config& config)
 {
+    ApplyQueuedIfAny();
     m_config = config;
     Retune();
 }
@@ -492,8 +601,16 @@ Stats QuadtreeBroadPhase::GetStats() const
     {
         s.proxiesPerLevel[size_t(level)] = m_pyramid.LevelCount(level);
     }
-    s.memoryBytes = m_pool.MemoryBytes() + m_pyramid.MemoryBytes() + int64_t(m_work.capacity() * sizeof(ProxyId)) +
-                    int64_t(m_blockPairs.capacity() * sizeof(std::vector<Pair>));
+    // Every heap byte held, working buffers included (their capacity, not their size).
+    s.memoryBytes = m_pool.MemoryBytes() + m_pyramid.MemoryBytes() +
+                    int64_t((m_work.capacity() + m_stale.capacity() + m_batch.capacity()) * sizeof(ProxyId)) +
+                    int64_t(m_queued.capacity() * sizeof(QueuedMove)) +
+                    int64_t(m_blockPairs.capacity() * sizeof(std::vector<Pair>)) +
+                    int64_t(m_threadChanged.capacity() * sizeof(std::vector<int32_t>));
+    for (const std::vector<int32_t>& changed : m_threadChanged)
+    {
+        s.memoryBytes += int64_t(changed.capacity() * sizeof(int32_t));
+    }
     for (const std::vector<Pair>& pairs : m_blockPairs)
     {
         s.memoryBytes += int64_t(pairs.capacity() * sizeof(Pair));
@@ -510,10 +627,19 @@ void QuadtreeBroadPhase::ResetCounters()
 
 std::string QuadtreeBroadPhase::Validate() const
 {
+    ApplyQueuedIfAny();
     std::string problem = m_pool.Validate();
     if (!problem.empty())
     {
         return "pool: " + problem;
+    }
+    // Applied above: no move is queued, and no proxy is flagged as having one.
+    for (ProxyId id = 0; id < m_pool.IdBound(); ++id)
+    {
+        if (m_pool.IsPending(id))
+        {
+            return "proxy " + std::to_string(id) + " is flagged with a queued move after the queue was applied";
+        }
     }
     problem = m_pyramid.Validate();
     if (!problem.empty())

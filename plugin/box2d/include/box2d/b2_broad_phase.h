@@ -56,7 +56,8 @@ public:
 
     /// Call MoveProxy as many times as you like, then when you are done
     /// call UpdatePairs to finalized the proxy pairs (for your time step).
-    /// O(1): the fat-AABB test, and when the fat AABB is replaced, a constant-time cell update.
+    /// quadphase: O(1), a store: the move is queued, and its fat-AABB test runs (on all threads) in the next
+    /// UpdatePairs, or earlier if something reads a fat AABB first. The outcome is the stock tree's.
     void MoveProxy(int32 proxyId, const b2AABB& aabb, const b2Vec2& displacement);
 
     /// Call to trigger a re-processing of it's pairs on the next call to UpdatePairs.

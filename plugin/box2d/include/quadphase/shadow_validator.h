@@ -23,8 +23,9 @@ struct ValidationReport
 
 /// Mirrors every broadphase call into a b2DynamicTree with Box2D 2.4.1's own b2BroadPhase logic, and at each
 /// UpdatePairs compares the set of pairs the quadtree reported with the set the stock logic gives: every proxy
-/// overlapping a proxy in the move buffer. It also compares MoveProxy's decision and the fat AABB bits after
-/// every create and move, and runs the quadtree's own Validate() every 64th check.
+/// overlapping a proxy in the move buffer. It also compares the fat AABB bits after every create, and after the
+/// moves of each step once the quadtree has applied them (it queues moves; see QuadtreeBroadPhase::QueueMove),
+/// which checks every fat-AABB decision, and runs the quadtree's own Validate() every 64th check.
 /// Costs about as much as a second broadphase; meant for tests and debugging.
 class ShadowValidator
 {
@@ -35,7 +36,7 @@ public:
 
     void OnCreate(ProxyId id, const b2AABB& aabb);
     void OnDestroy(ProxyId id);
-    void OnMove(ProxyId id, const b2AABB& aabb, const b2Vec2& displacement, bool quadtreeMoved);
+    void OnMove(ProxyId id, const b2AABB& aabb, const b2Vec2& displacement);
     void OnTouch(ProxyId id);
     void OnShiftOrigin(const b2Vec2& newOrigin);
 
@@ -57,6 +58,7 @@ private:
     b2DynamicTree m_tree;
     std::vector<int32> m_shadowOf; // quadtree id -> shadow id, -1 when none
     std::vector<ProxyId> m_buffer; // quadtree ids, stock b2BroadPhase move-buffer semantics
+    std::vector<ProxyId> m_moved;  // quadtree ids moved since the last check: their fat AABBs are compared then
     std::vector<Pair> m_expected;
     std::vector<Pair> m_actual;
     ProxyId m_queryId = -1;

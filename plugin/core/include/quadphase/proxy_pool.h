@@ -36,7 +36,16 @@ public:
     }
 
     /// Reports ErrorCode::UnknownProxy naming `call` and returns false when `id` is not live.
-    bool CheckLive(ProxyId id, const char* call) const;
+    /// Inline: it runs on every MoveProxy; only the report is out of line.
+    bool CheckLive(ProxyId id, const char* call) const
+    {
+        if (__builtin_expect(IsLive(id), 1))
+        {
+            return true;
+        }
+        ReportUnknown(id, call);
+        return false;
+    }
 
     /// Adds a live proxy to the move buffer unless it is already there.
     void Buffer(ProxyId id)
@@ -68,6 +77,28 @@ public:
     }
     void ClearStale(ProxyId id) { m_state[size_t(id)] &= uint8_t(~kStale); }
     bool IsStale(ProxyId id) const { return (m_state[size_t(id)] & kStale) != 0; }
+
+    /// Flags a live proxy with a queued, not yet applied move (QuadtreeBroadPhase::QueueMove). Returns false when
+    /// it already had one: the caller must apply the queue first, so that a proxy is queued at most once.
+    bool MarkPending(ProxyId id)
+    {
+        uint8_t& s = m_state[size_t(id)];
+        const bool fresh = (s & kPending) == 0;
+        s |= kPending;
+        return fresh;
+    }
+    void ClearPending(ProxyId id) { m_state[size_t(id)] &= uint8_t(~kPending); }
+    bool IsPending(ProxyId id) const { return (m_state[size_t(id)] & kPending) != 0; }
+
+    /// True when `id` is live and has no queued move: QuadtreeBroadPhase::QueueMove's common case, one load.
+    bool IsLiveAndNotPending(ProxyId id) const
+    {
+        return id >= 0 && id < ProxyId(m_state.size()) && (m_state[size_t(id)] & (kLive | kPending)) == kLive;
+    }
+
+    /// The fat boxes and state flags for loops that run on several threads over distinct ids (valid until the
+    /// next Allocate). Flags: see MarkPending, MarkStale.
+    Box* MutableFatData() { return m_fat.data(); }
 
     /// True while `id` is in the work list taken by TakeBuffer. A pair of two such proxies is reported by the
     /// smaller id only, so that every pair is reported once.
@@ -101,6 +132,9 @@ private:
     static constexpr uint8_t kBuffered = 2;
     static constexpr uint8_t kInWork = 4;
     static constexpr uint8_t kStale = 8;
+    static constexpr uint8_t kPending = 16;
+
+    __attribute__((noinline, cold)) void ReportUnknown(ProxyId id, const char* call) const;
 
     std::vector<Box> m_fat;
     std::vector<void*> m_userData;

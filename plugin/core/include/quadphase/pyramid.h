@@ -55,12 +55,14 @@ public:
     /// Replaces the stored boxes of the (distinct, stored) `ids` with `boxes[id]`, moving entries between cells as
     /// the placement rule says, and returns how many changed cell. It runs in phases whose result does not depend
     /// on `threads` (1 runs them without a parallel region):
-    ///  A. (parallel over ids) place each box; an entry that stays in its cell is rewritten in place;
+    ///  A. (parallel over ids, each thread a contiguous range) place each box; an entry that stays in its cell is
+    ///     rewritten in place; each thread lists its entries that change cell, in `ids` order;
     ///  B. (one thread) entries that change level are moved, in `ids` order;
     ///  C. (parallel over cells) entries that change cell within their level leave their old cell;
     ///  D. (parallel over cells) they join their new cell.
-    /// In C and D each cell belongs to one thread, which applies that cell's removals, then insertions, in `ids`
-    /// order; so every cell ends with the same entries in the same order at any thread count.
+    /// B, C and D read only the lists of A, joined in thread order, which is `ids` order. In C and D each cell
+    /// belongs to one thread, which applies that cell's removals, then insertions, in `ids` order; so every cell
+    /// ends with the same entries in the same order at any thread count.
     int64_t UpdateBatch(const std::vector<ProxyId>& ids, const Box* boxes, int threads);
 
     /// Calls visit(const Entry&) for every stored entry that may overlap `query` (a superset of the overlapping
@@ -133,15 +135,15 @@ private:
     void Store(ProxyId id, const Box& box, int level, int32_t cell);
     void RemoveFromCell(ProxyId id);
 
-    // One entry of an UpdateBatch plan.
-    struct Plan
+    // An entry that changes cell in UpdateBatch (phase A lists them per thread).
+    struct Change
     {
-        int32_t fromCell;
+        ProxyId id;
         int32_t toCell;
         int8_t toLevel;
-        uint8_t kind; // 0: stays in its cell, 1: changes cell within its level, 2: changes level
+        bool sameLevel; // changes cell within its level (phases C, D) rather than level (phase B)
     };
-    std::vector<Plan> m_plan;
+    std::vector<std::vector<Change>> m_changes; // per thread of phase A
 
     int m_depth = 0;
     float m_originX = 0.0f;

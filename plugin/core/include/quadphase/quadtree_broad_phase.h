@@ -1,7 +1,9 @@
 // The static-quadtree broadphase: proxies in a Pyramid, pairs found by one independent query per buffered proxy.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -18,6 +20,8 @@ namespace quadphase
 /// Exact broadphase over a static quadtree (see Pyramid for the placement rule and why it misses nothing).
 ///
 /// Cost model:
+/// - QueueMove (what the Box2D adapter calls) is O(1) and only records the move; the moves recorded since the
+///   last FindPairs are applied by the next FindPairs, in parallel (see QueueMove).
 /// - MoveProxy is O(1): the fat-box test; when the box changed, the proxy is listed as stale. Its cell entry is
 ///   brought up to date by the next FindPairs, for all stale proxies at once and in parallel (Pyramid::UpdateBatch);
 ///   until then Query and RayCast skip its entry and test its current box from the stale list.
@@ -27,8 +31,10 @@ namespace quadphase
 ///   count has doubled or fallen to a quarter since the last tuning, or when more than a quarter of the proxies
 ///   have moved outside the bounds since the last tuning; and on ShiftOrigin and Configure. See docs/design.md.
 ///
-/// Determinism: the same sequence of calls gives the same ids, the same pairs and the same pair order.
-/// Threading: no call may overlap another, except const calls with each other.
+/// Determinism: the same sequence of calls gives the same ids, the same pairs and the same pair order, at any
+/// thread count and schedule.
+/// Threading: no call may overlap another, except const calls with each other (a const call that finds queued
+/// moves applies them under a lock; see QueueMove).
 class QuadtreeBroadPhase final : public BroadPhaseInterface
 {
 public:
@@ -37,6 +43,40 @@ public:
     ProxyId CreateProxy(const Box& tight, void* userData) override;
     void DestroyProxy(ProxyId id) override;
     bool MoveProxy(ProxyId id, const Box& tight, Vec2 displacement) override;
+
+    /// MoveProxy for callers that do not need its answer (Box2D 2.4.1's b2BroadPhase::MoveProxy returns void):
+    /// checks the id and the box (bad input is reported here, at the call) and records the move. Its effect, the
+    /// same as MoveProxy's (new fat box when the policy says so, move buffer, cell entry), is applied in call order
+    /// by the next FindPairs, in parallel, or before anything that reads a fat box or changes the proxy set
+    /// (MoveProxy, DestroyProxy, TouchProxy, GetFatBox, TestOverlap, Query, RayCast, ShiftOrigin, Configure,
+    /// Validate), serially. Why: Box2D moves its bodies one by one on one thread; queuing makes that serial part a
+    /// store, and the fat-box tests run on all threads. A proxy queued twice before the queue is applied makes the
+    /// second call apply the queue first (in order), so the outcome never depends on when it is applied. The queue
+    /// holds at most kQueueChunk moves: a full queue is applied (in parallel) by the QueueMove that fills it.
+    void QueueMove(ProxyId id, const Box& tight, Vec2 displacement)
+    {
+        // Inline fast path (Box2D calls this once per moving fixture, on one thread); anything unusual (unknown
+        // id, bad box, a second move of the proxy, timing on) takes the out-of-line path.
+        if (__builtin_expect(m_pool.IsLiveAndNotPending(id) & IsSane(tight) & !m_timing, 1))
+        {
+            m_pool.MarkPending(id);
+            m_queued.push_back(QueuedMove{tight, displacement, id});
+            m_hasQueued.store(true, std::memory_order_release);
+            if (__builtin_expect(m_queued.size() >= kQueueChunk, 0))
+            {
+                ApplyQueued(Threads()); // bounded memory, and the queue stays in cache
+            }
+            return;
+        }
+        QueueMoveSlow(id, tight, displacement);
+    }
+
+    /// Applies the queued moves now (see QueueMove). Calls that read fat boxes do it themselves; this is for
+    /// readers of GetPool() and GetPyramid(). Takes the lock; safe to call concurrently with const calls.
+    void ApplyQueuedMoves() const { ApplyQueuedIfAny(); }
+
+    /// Moves recorded by QueueMove and not applied yet.
+    int32_t QueuedMoveCount() const { return int32_t(m_queued.size()); }
     void TouchProxy(ProxyId id) override;
     void FindPairs(std::vector<Pair>& out) override;
     void Query(const Box& box, QueryFn fn, void* context) const override;
@@ -64,7 +104,8 @@ public:
     /// per call). FindPairs is always timed.
     void SetTiming(bool enabled) { m_timing = enabled; }
 
-    /// Read-only access for drawing and tests.
+    /// Read-only access for drawing and tests. The fat boxes are those of the last applied move: queued moves
+    /// (QueueMove) are not in them until ApplyQueuedMoves, FindPairs or a reading call applies them.
     const Pyramid& GetPyramid() const { return m_pyramid; }
     const ProxyPool& GetPool() const { return m_pool; }
 
@@ -73,6 +114,28 @@ public:
     std::string Validate() const;
 
 private:
+    struct QueuedMove
+    {
+        Box tight;
+        Vec2 displacement;
+        ProxyId id;
+    };
+    // 8192 x 28 bytes: large enough that a parallel region pays for itself many times over (a few microseconds
+    // against ~40 microseconds of fat-box tests), small enough to stay in L2 and not to grow with the world.
+    static constexpr size_t kQueueChunk = 8192;
+    // Applies the queue when it is not empty; the common empty case is one atomic load.
+    void ApplyQueuedIfAny() const
+    {
+        if (m_hasQueued.load(std::memory_order_acquire))
+        {
+            ApplyQueuedLocked();
+        }
+    }
+    void ApplyQueuedLocked() const;
+    void QueueMoveSlow(ProxyId id, const Box& tight, Vec2 displacement);
+    // Applies the queue: fat-box tests on `threads` threads, then (serially, in queue order) the stale list and the
+    // move buffer. Requires exclusive access.
+    void ApplyQueued(int threads);
     void Retune();
     void Rebuild(float originX, float originY, float side, int depth);
     bool NeedsRetune() const;
@@ -85,6 +148,10 @@ private:
     Config m_config;
     ProxyPool m_pool;
     Pyramid m_pyramid;
+    std::vector<QueuedMove> m_queued; // QueueMove calls not applied yet, in call order, one per proxy at most
+    std::vector<std::vector<int32_t>> m_threadChanged; // ApplyQueued: per thread, queue indices that got a new fat box
+    mutable std::atomic<bool> m_hasQueued{false}; // !m_queued.empty(), readable without the lock
+    mutable std::mutex m_queueMutex; // serialises const calls that apply the queue
     std::vector<ProxyId> m_work; // proxies whose pairs the current FindPairs searches
     std::vector<ProxyId> m_stale; // proxies whose fat box changed since their cell entry was written (see MoveProxy)
     std::vector<ProxyId> m_batch; // the live ones among them, handed to Pyramid::UpdateBatch
