@@ -104,6 +104,14 @@ int Run(const Options& options)
     b2World& world = *scene.world;
     CountingFilter filter;
     world.SetContactFilter(&filter);
+#if QUADPHASE_VARIANT_QUADPHASE
+    if (options.threads >= 0)
+    {
+        quadphase::Config config = quadphase::GetConfig(world);
+        config.threads = options.threads;
+        quadphase::Configure(world, config);
+    }
+#endif
 
     const bool render = !options.pngDir.empty();
     const ViewRect view = options.autoView ? AutoView(world) : options.view;
@@ -114,10 +122,18 @@ int Run(const Options& options)
         MakeDirectories(options.pngDir);
     }
 
+    std::string note;
+    if (kBroadphase == std::string("stock"))
+    {
+        note = " (Box2D's b2DynamicTree: no quadtree overlay)";
+    }
+    else if (options.threads >= 0)
+    {
+        note = ", " + std::to_string(options.threads) + " pair-generation threads";
+    }
     std::printf("quadphase-scene: %s, size %d, seed %" PRIu32 ", %d steps of %.4f s, broadphase %s%s\n",
                 options.scene.c_str(), options.size, options.seed, options.steps, double(scene.timeStep),
-                kBroadphase,
-                kBroadphase == std::string("stock") ? " (Box2D's b2DynamicTree: no quadtree overlay)" : "");
+                kBroadphase, note.c_str());
     if (render)
     {
         std::printf("quadphase-scene: frames every %d steps into %s/, view [%.1f, %.1f] x [%.1f, %.1f] m\n",

@@ -185,6 +185,10 @@ Options ParseOptions(const std::vector<std::string>& args)
              {
                  options.broadphase = CheckBroadphase(name, takeValue());
              }
+             else if (name == "--threads")
+             {
+                 options.threads = static_cast<int>(ParseInteger(name, takeValue(), 0, 256));
+             }
              else if (name == "--png")
              {
                  options.pngDir = takeValue();
@@ -264,6 +268,11 @@ Options ParseOptions(const std::vector<std::string>& args)
                          info.name + "' [" + std::to_string(info.minSize) + ", " +
                          std::to_string(info.maxSize) + "] (size = " + info.sizeMeaning + ")");
     }
+    if (options.threads >= 0 && options.broadphase != "quadtree")
+    {
+        throw UsageError(
+            "--threads sets the quadtree's pair-generation threads: it needs --broadphase quadtree");
+    }
     if ((!options.gifPath.empty() || !options.mp4Path.empty()) && options.pngDir.empty())
     {
         throw UsageError("--gif and --mp4 are made from the PNG frames: give --png DIR too");
@@ -290,6 +299,9 @@ options:
   --seed N              scene seed, 0..4294967295 (default 1)
   --broadphase KIND     quadtree (default): Box2D 2.4.1 with quadphase's quadtree (quadphase::box2d);
                         stock: untouched Box2D 2.4.1 (no quadtree, so no overlay)
+  --threads N           quadtree only: OpenMP threads for pair generation (quadphase::Config::threads;
+                        0: OpenMP's default, which is also the default here). On a busy machine 1 can
+                        be much faster: waiting OpenMP threads spin while other programs hold the cores
   --png DIR             write frames DIR/frame_00000.png, ... (DIR is created if missing); the first
                         frame shows the world before the first step
   --every N             with --png: a frame every N steps (default 10)

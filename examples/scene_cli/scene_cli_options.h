@@ -36,6 +36,7 @@ struct Options
     int steps = 600;
     uint32_t seed = 1;
     std::string broadphase = "quadtree"; ///< "quadtree" or "stock"
+    int threads = -1;                    ///< quadtree pair-generation threads; -1: the library's default
     std::string pngDir;                  ///< empty: no frames
     int every = 10;                      ///< render a frame every this many steps
     int width = 800;

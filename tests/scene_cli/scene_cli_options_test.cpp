@@ -42,6 +42,8 @@ TEST_CASE("defaults: rain at its default size, quadtree, no frames", "[scene_cli
     CHECK(options.sceneId == SceneId::Rain);
     CHECK(options.size == quadphase::scenes::GetSceneInfo(SceneId::Rain).defaultSize);
     CHECK(options.broadphase == "quadtree");
+    CHECK(options.threads == -1);
+    CHECK(Parse({"--broadphase", "stock"}).broadphase == "stock");
     CHECK(options.pngDir.empty());
     CHECK(options.every == 10);
     CHECK(options.autoView);
@@ -51,36 +53,20 @@ TEST_CASE("defaults: rain at its default size, quadtree, no frames", "[scene_cli
 
 TEST_CASE("every option, in both forms", "[scene_cli][options]")
 {
-    const Options options = Parse({"--scene",
-                                   "CHURN",
-                                   "--size=300",
-                                   "--steps",
-                                   "42",
-                                   "--seed",
-                                   "4294967295",
-                                   "--broadphase=stock",
-                                   "--png",
-                                   "out/frames",
-                                   "--every",
-                                   "3",
-                                   "--width",
-                                   "320",
-                                   "--height=200",
-                                   "--view",
-                                   "-5,-2.5,5,2.5",
-                                   "--no-overlay",
-                                   "--gif",
-                                   "a.gif",
-                                   "--mp4=b.mp4",
-                                   "--fps",
-                                   "12",
-                                   "--quiet"});
+    const Options options = Parse({"--scene",      "CHURN",  "--size=300",    "--steps",
+                                   "42",           "--seed", "4294967295",    "--broadphase=quadtree",
+                                   "--threads",    "1",      "--png",         "out/frames",
+                                   "--every",      "3",      "--width",       "320",
+                                   "--height=200", "--view", "-5,-2.5,5,2.5", "--no-overlay",
+                                   "--gif",        "a.gif",  "--mp4=b.mp4",   "--fps",
+                                   "12",           "--quiet"});
     CHECK(options.sceneId == SceneId::Churn);
     CHECK(options.scene == "churn");
     CHECK(options.size == 300);
     CHECK(options.steps == 42);
     CHECK(options.seed == 4294967295u);
-    CHECK(options.broadphase == "stock");
+    CHECK(options.broadphase == "quadtree");
+    CHECK(options.threads == 1);
     CHECK(options.pngDir == "out/frames");
     CHECK(options.every == 3);
     CHECK(options.width == 320);
@@ -103,8 +89,8 @@ TEST_CASE("--help skips the checks of the other options", "[scene_cli][options]"
     CHECK(Parse({"--size", "1", "-h"}).help);
     const std::string help = quadphase::scene_cli::HelpText("quadphase-scene");
     for (const char* option :
-         {"--scene", "--size", "--steps", "--seed", "--broadphase", "--png", "--every", "--width", "--height",
-          "--view", "--no-overlay", "--gif", "--mp4", "--fps", "--quiet", "--help"})
+         {"--scene", "--size", "--steps", "--seed", "--broadphase", "--threads", "--png", "--every",
+          "--width", "--height", "--view", "--no-overlay", "--gif", "--mp4", "--fps", "--quiet", "--help"})
     {
         INFO(option);
         CHECK(help.find(option) != std::string::npos);
@@ -136,6 +122,8 @@ TEST_CASE("bad input is rejected with a message naming the problem", "[scene_cli
         {{"--seed", "4294967296"}, "--seed must be in"},
         {{"--broadphase", "bvh"}, "--broadphase must be 'quadtree' or 'stock', got 'bvh'"},
         {{"--png", ""}, "--png needs a directory"},
+        {{"--threads", "-1"}, "--threads must be in"},
+        {{"--threads", "2", "--broadphase", "stock"}, "needs --broadphase quadtree"},
         {{"--every", "0", "--png", "d"}, "--every must be in"},
         {{"--every", "5"}, "give --png DIR too"},
         {{"--width", "15"}, "--width must be in"},
