@@ -152,6 +152,57 @@ TEST_CASE("scene sizes and body counts", "[scenes]")
     }
 }
 
+TEST_CASE("game scenes: body counts, churn every step, a map far from the origin", "[scenes]")
+{
+    using quadphase::scenes::BuildScene;
+    using quadphase::scenes::CountBodies;
+    using quadphase::scenes::StepScene;
+
+    // churn: N bodies + the container at every step; every step creates new bodies (tagged by user data,
+    // since Box2D reuses a destroyed body's memory) and destroys as many.
+    {
+        Scene churn = BuildScene(SceneId::Churn, 240, 5);
+        REQUIRE(CountBodies(*churn.world) == 1 + 240);
+        for (int step = 0; step < 30; ++step)
+        {
+            for (b2Body* body = churn.world->GetBodyList(); body != nullptr; body = body->GetNext())
+            {
+                body->GetUserData().pointer = 1;
+            }
+            StepScene(churn);
+            int created = 0;
+            for (b2Body* body = churn.world->GetBodyList(); body != nullptr; body = body->GetNext())
+            {
+                created += body->GetUserData().pointer == 0 ? 1 : 0;
+            }
+            INFO("step " << step);
+            CHECK(created == 2); // max(1, 240 / 120)
+            CHECK(CountBodies(*churn.world) == 1 + 240);
+        }
+    }
+    // shooter: walls + N / 20 crates + player + N enemies, then 5 bullets per step (N = 400) alive for 45
+    // steps.
+    {
+        Scene shooter = BuildScene(SceneId::Shooter, 400, 5);
+        CHECK(CountBodies(*shooter.world) == 1 + 20 + 1 + 400);
+        for (int step = 0; step < 100; ++step)
+        {
+            StepScene(shooter);
+        }
+        CHECK(CountBodies(*shooter.world) == 1 + 20 + 1 + 400 + 5 * 45);
+    }
+    // openworld: ceil(300 / 250) = 2 towns of 5 x 5 buildings, 300 vehicles, 75 trees; every body more than
+    // 40 km from the origin on x.
+    {
+        Scene world = BuildScene(SceneId::OpenWorld, 300, 5);
+        CHECK(CountBodies(*world.world) == 2 * 25 + 300 + 75);
+        for (const b2Body* body = world.world->GetBodyList(); body != nullptr; body = body->GetNext())
+        {
+            CHECK(body->GetPosition().x > 40000.0f);
+        }
+    }
+}
+
 TEST_CASE("scene registry: names, parsing and size checks", "[scenes]")
 {
     const auto& scenes = quadphase::scenes::AllScenes();
