@@ -207,25 +207,48 @@ TEST_CASE("the checker's grid finds the same overlapping pairs as testing every 
     CHECK(CheckMissedContacts(*world).missed == 0);
 }
 
-TEST_CASE(
-    "penetration is the overlap depth of the touching contacts; kinetic energy is m v^2 / 2 + I w^2 / 2")
+TEST_CASE("penetration is the overlap depth of the touching contacts")
 {
     auto world = MakeWorld();
     AddCircle(*world, b2_staticBody, b2Vec2(0.0f, 0.0f), 0.5f);
-    b2Body* ball = AddCircle(*world, b2_dynamicBody, b2Vec2(0.9f, 0.0f), 0.5f);
+    AddCircle(*world, b2_dynamicBody, b2Vec2(0.9f, 0.0f), 0.5f);
     CHECK(MeasurePenetration(*world).points == 0); // no contact yet
-    // One velocity iteration, no position iteration, no time-of-impact pass (which would push the ball out): the
-    // contact is created and evaluated; the ball moves by at most its solver velocity times the tiny step.
+    // One velocity iteration, no position iteration, no time-of-impact pass (which would push the ball out):
+    // the contact is created and evaluated; the ball moves by at most its solver velocity times the tiny
+    // step.
     world->SetContinuousPhysics(false);
     world->Step(1e-6f, 1, 0);
     const auto p = MeasurePenetration(*world);
     CHECK(p.points == 1);
     CHECK(p.maxDepth == Approx(0.1).margin(1e-3));
     CHECK(p.sumDepth == Approx(p.maxDepth));
+}
 
+TEST_CASE("kinetic energy is m v^2 / 2 + I w^2 / 2 about the centre of mass")
+{
+    auto world = MakeWorld();
+    AddCircle(*world, b2_staticBody, b2Vec2(0.0f, 0.0f), 0.5f); // static: no energy
+    b2Body* ball = AddCircle(*world, b2_dynamicBody, b2Vec2(3.0f, 0.0f), 0.5f);
     ball->SetLinearVelocity(b2Vec2(3.0f, 4.0f));
     ball->SetAngularVelocity(2.0f);
     const double mass = ball->GetMass();
     const double inertia = ball->GetInertia(); // centred shape: about the centre of mass
-    CHECK(KineticEnergy(*world) == Approx(0.5 * mass * 25.0 + 0.5 * inertia * 4.0));
+    const double expectedBall = 0.5 * mass * 25.0 + 0.5 * inertia * 4.0;
+    CHECK(KineticEnergy(*world) == Approx(expectedBall));
+
+    // An off-centre shape: Box2D's GetInertia() is about the body origin, the energy needs it about the
+    // centre.
+    b2BodyDef bd;
+    bd.type = b2_dynamicBody;
+    bd.position.Set(10.0f, 0.0f);
+    b2Body* offset = world->CreateBody(&bd);
+    b2CircleShape circle;
+    circle.m_radius = 0.5f;
+    circle.m_p.Set(2.0f, 0.0f);
+    offset->CreateFixture(&circle, 1.0f);
+    offset->SetAngularVelocity(1.0f);
+    const double centred = double(offset->GetInertia()) - double(offset->GetMass()) * 4.0;
+    const double v2 =
+        offset->GetLinearVelocity().LengthSquared(); // the centre moves when spinning about the origin
+    CHECK(KineticEnergy(*world) == Approx(expectedBall + 0.5 * offset->GetMass() * v2 + 0.5 * centred * 1.0));
 }
