@@ -61,6 +61,32 @@ void ProxyPool::TakeBuffer(std::vector<ProxyId>& work)
     m_moveBuffer.clear();
 }
 
+void ProxyPool::LendBuffer(std::vector<ProxyId>& work)
+{
+    size_t kept = 0;
+    for (ProxyId id : m_moveBuffer)
+    {
+        uint8_t& s = m_state[size_t(id)];
+        s &= uint8_t(~kBuffered);
+        if ((s & kLive) != 0)
+        {
+            s |= kInWork;
+            m_moveBuffer[kept++] = id;
+        }
+    }
+    m_moveBuffer.resize(kept);
+    work.clear();
+    work.swap(m_moveBuffer);
+}
+
+void ProxyPool::ReturnWork(std::vector<ProxyId>& work)
+{
+    ReleaseWork(work);
+    work.clear();
+    work.swap(m_moveBuffer);
+    work.clear(); // whatever was in the (unused) move buffer storage
+}
+
 void ProxyPool::ReleaseWork(const std::vector<ProxyId>& work)
 {
     for (ProxyId id : work)

@@ -27,9 +27,8 @@ void Pyramid::Reset(float originX, float originY, float side, int depth)
     m_invLeaf = 1.0f / m_leafSize;
     m_maxCoord = float(LevelSide(depth) - 1);
 
-    m_cells.clear();
-    m_cells.shrink_to_fit();
-    m_cells.resize(size_t(PyramidCellCount(depth)));
+    m_store.Reset(PyramidCellCount(depth));
+    m_stored = 0;
     m_levelProxies.assign(size_t(depth + 1), {});
     for (Location& loc : m_location)
     {
@@ -66,10 +65,9 @@ void Pyramid::Place(const Box& box, int& level, int32_t& index) const
 void Pyramid::Store(ProxyId id, const Box& box, int level, int32_t cell)
 {
     Location& loc = m_location[size_t(id)];
-    std::vector<Entry>& entries = m_cells[size_t(cell)];
     loc.cell = cell;
-    loc.slot = int32_t(entries.size());
-    entries.push_back(Entry{box, id});
+    loc.slot = m_store.Push(cell, Entry{box, id});
+    ++m_stored;
     std::vector<ProxyId>& levelList = m_levelProxies[size_t(level)];
     loc.level = int8_t(level);
     loc.levelSlot = int32_t(levelList.size());
@@ -94,11 +92,11 @@ void Pyramid::Insert(ProxyId id, const Box& box)
 void Pyramid::RemoveFromCell(ProxyId id)
 {
     const Location& loc = m_location[size_t(id)];
-    std::vector<Entry>& entries = m_cells[size_t(loc.cell)];
-    const Entry& last = entries.back();
-    m_location[size_t(last.id)].slot = loc.slot;
-    entries[size_t(loc.slot)] = last;
-    entries.pop_back();
+    const ProxyId moved = m_store.SwapRemove(loc.cell, loc.slot);
+    if (moved >= 0)
+    {
+        m_location[size_t(moved)].slot = loc.slot;
+    }
 }
 
 void Pyramid::Remove(ProxyId id)
@@ -114,6 +112,7 @@ void Pyramid::Remove(ProxyId id)
 
     m_outsideCount -= loc.outside ? 1 : 0;
     loc = Location{};
+    --m_stored;
 }
 
 bool Pyramid::Update(ProxyId id, const Box& box)
@@ -125,7 +124,7 @@ bool Pyramid::Update(ProxyId id, const Box& box)
     const bool outside = !Inside(box);
     if (cell == loc.cell)
     {
-        m_cells[size_t(cell)][size_t(loc.slot)].box = box;
+        m_store.Data(cell)[loc.slot].box = box;
         m_outsideCount += int32_t(outside) - int32_t(loc.outside);
         loc.outside = outside;
         return false;
@@ -144,6 +143,7 @@ int64_t Pyramid::UpdateBatch(const std::vector<ProxyId>& ids, const Box* boxes, 
     if (int(m_changes.size()) < team)
     {
         m_changes.resize(size_t(team));
+        m_overflow.resize(size_t(team));
     }
 
     // A. Places the boxes of ids[begin, end); rewrites in place the entries that stay in their cell and lists the
@@ -164,7 +164,7 @@ int64_t Pyramid::UpdateBatch(const std::vector<ProxyId>& ids, const Box* boxes, 
             loc.outside = outside;
             if (cell == loc.cell)
             {
-                m_cells[size_t(cell)][size_t(loc.slot)].box = box;
+                m_store.Data(cell)[loc.slot].box = box;
             }
             else
             {
@@ -208,19 +208,37 @@ int64_t Pyramid::UpdateBatch(const std::vector<ProxyId>& ids, const Box* boxes, 
             }
         }
     };
+    // A join into a full cell needs a larger block, which only one thread may allocate: it is listed, and so are
+    // all later joins into that cell (it stays full), and done after the parallel phases in list order.
     auto joinCells = [&](int owners, int me) {
+        std::vector<Change>& overflow = m_overflow[size_t(me)];
+        overflow.clear();
         for (int t = 0; t < team; ++t)
         {
             for (const Change& c : m_changes[size_t(t)])
             {
                 if (c.sameLevel && (c.toCell >> 4) % owners == me)
                 {
-                    std::vector<Entry>& entries = m_cells[size_t(c.toCell)];
                     Location& loc = m_location[size_t(c.id)];
                     loc.cell = c.toCell;
-                    loc.slot = int32_t(entries.size());
-                    entries.push_back(Entry{boxes[c.id], c.id});
+                    if (overflow.empty() && m_store.HasRoom(c.toCell))
+                    {
+                        loc.slot = m_store.PushNoGrow(c.toCell, Entry{boxes[c.id], c.id});
+                    }
+                    else
+                    {
+                        overflow.push_back(c);
+                    }
                 }
+            }
+        }
+    };
+    auto joinOverflow = [&]() {
+        for (const std::vector<Change>& overflow : m_overflow)
+        {
+            for (const Change& c : overflow)
+            {
+                m_location[size_t(c.id)].slot = m_store.Push(c.toCell, Entry{boxes[c.id], c.id});
             }
         }
     };
@@ -235,6 +253,7 @@ int64_t Pyramid::UpdateBatch(const std::vector<ProxyId>& ids, const Box* boxes, 
         changed = moveLevels();
         leaveCells(1, 0);
         joinCells(1, 0);
+        joinOverflow();
     }
     else
     {
@@ -251,10 +270,19 @@ int64_t Pyramid::UpdateBatch(const std::vector<ProxyId>& ids, const Box* boxes, 
 #pragma omp barrier
             joinCells(int(size), int(me));
         }
+        joinOverflow();
     }
     for (std::vector<Change>& changes : m_changes)
     {
         changes.clear();
+    }
+    for (std::vector<Change>& overflow : m_overflow)
+    {
+        overflow.clear();
+    }
+    if (m_store.Wasteful(m_stored))
+    {
+        m_store.Compact(); // amortised: the array doubled since it was last compact
     }
     m_outsideCount += outsideDelta;
     return changed;
@@ -264,48 +292,54 @@ void Pyramid::CountOccupancy(int64_t& occupied, int64_t& largest) const
 {
     occupied = 0;
     largest = 0;
-    for (const std::vector<Entry>& entries : m_cells)
+    for (int32_t cell = 0; cell < m_store.CellCount(); ++cell)
     {
-        occupied += entries.empty() ? 0 : 1;
-        largest = int64_t(entries.size()) > largest ? int64_t(entries.size()) : largest;
+        const int64_t size = m_store.Size(cell);
+        occupied += size == 0 ? 0 : 1;
+        largest = size > largest ? size : largest;
     }
 }
 
 int64_t Pyramid::MemoryBytes() const
 {
-    int64_t bytes = int64_t(m_cells.capacity() * sizeof(std::vector<Entry>));
-    for (const std::vector<Entry>& entries : m_cells)
-    {
-        bytes += int64_t(entries.capacity() * sizeof(Entry));
-    }
+    int64_t bytes = m_store.MemoryBytes();
     bytes += int64_t(m_levelProxies.capacity() * sizeof(std::vector<ProxyId>));
     for (const std::vector<ProxyId>& list : m_levelProxies)
     {
         bytes += int64_t(list.capacity() * sizeof(ProxyId));
     }
     bytes += int64_t(m_location.capacity() * sizeof(Location));
-    bytes += int64_t(m_changes.capacity() * sizeof(std::vector<Change>));
+    bytes += int64_t((m_changes.capacity() + m_overflow.capacity()) * sizeof(std::vector<Change>));
     for (const std::vector<Change>& changes : m_changes)
     {
         bytes += int64_t(changes.capacity() * sizeof(Change));
+    }
+    for (const std::vector<Change>& overflow : m_overflow)
+    {
+        bytes += int64_t(overflow.capacity() * sizeof(Change));
     }
     return bytes;
 }
 
 std::string Pyramid::Validate() const
 {
-    if (m_cells.size() != size_t(PyramidCellCount(m_depth)) || m_levelProxies.size() != size_t(m_depth + 1))
+    if (m_store.CellCount() != PyramidCellCount(m_depth) || m_levelProxies.size() != size_t(m_depth + 1))
     {
         return "pyramid arrays do not match depth " + std::to_string(m_depth);
     }
+    const std::string storeProblem = m_store.Validate();
+    if (!storeProblem.empty())
+    {
+        return "cells: " + storeProblem;
+    }
     int32_t stored = 0;
     int32_t outside = 0;
-    for (int32_t cell = 0; cell < int32_t(m_cells.size()); ++cell)
+    for (int32_t cell = 0; cell < m_store.CellCount(); ++cell)
     {
-        const std::vector<Entry>& entries = m_cells[size_t(cell)];
-        for (int32_t slot = 0; slot < int32_t(entries.size()); ++slot)
+        const Entry* entries = m_store.Data(cell);
+        for (int32_t slot = 0; slot < m_store.Size(cell); ++slot)
         {
-            const Entry& e = entries[size_t(slot)];
+            const Entry& e = entries[slot];
             if (e.id < 0 || size_t(e.id) >= m_location.size())
             {
                 return "cell " + std::to_string(cell) + " holds out-of-range id " + std::to_string(e.id);
@@ -347,6 +381,10 @@ std::string Pyramid::Validate() const
             }
         }
         listed += int32_t(list.size());
+    }
+    if (stored != m_stored)
+    {
+        return "stored count " + std::to_string(m_stored) + " but cells hold " + std::to_string(stored);
     }
     if (listed != stored)
     {

@@ -276,14 +276,27 @@ void QuadtreeBroadPhase::QueryPairsOf(ProxyId q, std::vector<Pair>& out) const
 void QuadtreeBroadPhase::FindPairs(std::vector<Pair>& out)
 {
     const Clock::time_point start = Clock::now();
-    const int threads = Threads();
+    int threads = Threads();
+    const int64_t work = int64_t(m_queued.size() + m_stale.size()) + m_pool.BufferedCount();
+    const bool eligible = m_config.threads == 0 && threads > 1 && work >= int64_t(m_config.parallelThreshold);
+    if (eligible)
+    {
+        // Which mode to run: the faster one, except on a probe of the other (see ThreadChoice).
+        const bool probe = ++m_choice.calls % m_choice.probeEvery == 0;
+        const bool parallel = m_choice.Parallel() != probe;
+        if (!parallel)
+        {
+            threads = 1;
+            m_counters.serialByChoice += probe ? 0 : 1;
+        }
+    }
     ApplyQueued(threads);
     if (NeedsRetune())
     {
         Retune();
     }
     UpdateStaleEntries(threads);
-    m_pool.TakeBuffer(m_work);
+    m_pool.LendBuffer(m_work);
     const size_t before = out.size();
     if (threads > 1 && int64_t(m_work.size()) >= int64_t(m_config.parallelThreshold))
     {
@@ -297,14 +310,30 @@ void QuadtreeBroadPhase::FindPairs(std::vector<Pair>& out)
             QueryPairsOf(q, out);
         }
     }
-    m_pool.ReleaseWork(m_work);
+    const int64_t queried = int64_t(m_work.size());
+    m_pool.ReturnWork(m_work);
 
     const int64_t found = int64_t(out.size() - before);
     m_counters.updatePairsCalls += 1;
     m_counters.pairsReported += found;
     m_counters.lastPairs = found;
-    m_counters.proxiesQueried += int64_t(m_work.size());
-    m_counters.pairSeconds += SecondsSince(start);
+    m_counters.proxiesQueried += queried;
+    const double seconds = SecondsSince(start);
+    m_counters.pairSeconds += seconds;
+    if (eligible)
+    {
+        const double ns = 1e9 * seconds / double(work);
+        const bool wasParallel = threads > 1;
+        const bool wasProbe = wasParallel != m_choice.Parallel();
+        double& average = wasParallel ? m_choice.parallelNs : m_choice.serialNs;
+        average = average == 0.0 ? ns : 0.75 * average + 0.25 * ns;
+        if (wasProbe)
+        {
+            // A probe that did not change the choice was wasted: probe less often.
+            const bool changed = wasParallel == m_choice.Parallel();
+            m_choice.probeEvery = changed ? 32 : std::min<int64_t>(1024, 2 * m_choice.probeEvery);
+        }
+    }
 }
 
 int QuadtreeBroadPhase::Threads() const
@@ -319,18 +348,20 @@ void QuadtreeBroadPhase::UpdateStaleEntries(int threads)
         return;
     }
     const Clock::time_point start = Clock::now();
-    m_batch.clear();
+    // Filtered in place (no second array): the live ones are handed to the pyramid.
+    size_t kept = 0;
     for (ProxyId id : m_stale)
     {
         m_pool.ClearStale(id);
         if (m_pool.IsLive(id))
         {
-            m_batch.push_back(id);
+            m_stale[kept++] = id;
         }
     }
+    m_stale.resize(kept);
+    const bool parallel = threads > 1 && int64_t(kept) >= int64_t(m_config.parallelThreshold);
+    m_counters.reinserts += m_pyramid.UpdateBatch(m_stale, m_pool.FatData(), parallel ? threads : 1);
     m_stale.clear();
-    const bool parallel = threads > 1 && int64_t(m_batch.size()) >= int64_t(m_config.parallelThreshold);
-    m_counters.reinserts += m_pyramid.UpdateBatch(m_batch, m_pool.FatData(), parallel ? threads : 1);
     m_counters.updateSeconds += SecondsSince(start);
 }
 
@@ -578,6 +609,7 @@ void QuadtreeBroadPhase::Rebuild(float originX, float originY, float side, int d
             m_pyramid.Insert(id, m_pool.Fat(id));
         }
     }
+    m_pyramid.Compact(); // cells in row-major order in memory: neighbouring cells are read together
     // Every entry was just written from the current boxes.
     for (ProxyId id : m_stale)
     {
@@ -603,7 +635,7 @@ Stats QuadtreeBroadPhase::GetStats() const
     }
     // Every heap byte held, working buffers included (their capacity, not their size).
     s.memoryBytes = m_pool.MemoryBytes() + m_pyramid.MemoryBytes() +
-                    int64_t((m_work.capacity() + m_stale.capacity() + m_batch.capacity()) * sizeof(ProxyId)) +
+                    int64_t((m_work.capacity() + m_stale.capacity()) * sizeof(ProxyId)) +
                     int64_t(m_queued.capacity() * sizeof(QueuedMove)) +
                     int64_t(m_blockPairs.capacity() * sizeof(std::vector<Pair>)) +
                     int64_t(m_threadChanged.capacity() * sizeof(std::vector<int32_t>));

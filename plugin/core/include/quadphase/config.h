@@ -34,7 +34,9 @@ struct Config
     /// Measured on this machine: 2-3 perform alike, 1.5 is worse.
     float cellToProxyRatio = 2.0f;
 
-    /// Threads for pair generation; 0 follows OpenMP's own setting (OMP_NUM_THREADS, else the core count).
+    /// Threads for pair generation and grid maintenance. 0: up to OpenMP's own setting (OMP_NUM_THREADS, else the
+    /// core count), but serial while serial calls are measured faster (a machine whose cores are busy with other
+    /// work makes every parallel region wait; see QuadtreeBroadPhase::FindPairs). N > 0: exactly N, always.
     /// The pairs and their order do not depend on it.
     int threads = 0;
 

@@ -65,6 +65,12 @@ public:
     /// Clears the "in work" flags set by TakeBuffer.
     void ReleaseWork(const std::vector<ProxyId>& work);
 
+    /// TakeBuffer without a second array: `work` (empty) receives the move buffer's own storage, filtered in place.
+    /// No proxy may be buffered until ReturnWork(work), which clears the "in work" flags and gives the storage back
+    /// as the empty move buffer.
+    void LendBuffer(std::vector<ProxyId>& work);
+    void ReturnWork(std::vector<ProxyId>& work);
+
     /// Flags a proxy whose fat box changed since its cell entry was written ("stale"). Returns true when it was not
     /// flagged yet, i.e. when the caller should add it to its list of stale proxies. Like the buffered flag, the
     /// stale flag survives Free, so an id is never listed twice; ClearStale ends it.

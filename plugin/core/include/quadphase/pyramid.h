@@ -7,20 +7,11 @@
 #include <vector>
 
 #include "quadphase/box.h"
+#include "quadphase/cell_store.h"
 #include "quadphase/row_major.h"
 
 namespace quadphase
 {
-
-using ProxyId = int32_t;
-
-/// A proxy as stored in a cell: a copy of its fat box beside its id, so a cell's candidates are read from one
-/// contiguous array.
-struct Entry
-{
-    Box box;
-    ProxyId id;
-};
 
 /// The placement rule. Cell coordinates are computed once, at the deepest level, by a monotone function of the
 /// coordinate (subtract the origin, multiply by the inverse leaf size, clamp into [0, 2^depth - 1], truncate; NaN
@@ -47,6 +38,9 @@ public:
 
     /// Removes a stored id.
     void Remove(ProxyId id);
+
+    /// Lays the cells' entries out in cell order (see CellStore::Compact). Call after inserting many proxies.
+    void Compact() { m_store.Compact(); }
 
     /// Replaces the stored box of `id`, moving it to another cell when the placement rule says so.
     /// Returns true when it changed cell.
@@ -89,10 +83,7 @@ public:
     void CountOccupancy(int64_t& occupied, int64_t& largest) const;
 
     /// Number of proxies in cell `index` of `level` (row-major). For drawing and tests.
-    int32_t CellCount(int level, int32_t index) const
-    {
-        return int32_t(m_cells[size_t(LevelOffset(level) + index)].size());
-    }
+    int32_t CellCount(int level, int32_t index) const { return m_store.Size(LevelOffset(level) + index); }
 
     /// The (level, row-major index) the placement rule gives for `box`.
     void Place(const Box& box, int& level, int32_t& index) const;
@@ -105,7 +96,7 @@ public:
 private:
     struct Location
     {
-        int32_t cell = -1;      // index into m_cells (all levels), -1 when not stored
+        int32_t cell = -1;      // index into m_store (all levels), -1 when not stored
         int32_t slot = -1;      // index of the entry in that cell
         int32_t levelSlot = -1; // index in m_levelProxies[level]
         int8_t level = -1;
@@ -143,7 +134,8 @@ private:
         int8_t toLevel;
         bool sameLevel; // changes cell within its level (phases C, D) rather than level (phase B)
     };
-    std::vector<std::vector<Change>> m_changes; // per thread of phase A
+    std::vector<std::vector<Change>> m_changes;  // per thread of phase A
+    std::vector<std::vector<Change>> m_overflow; // per thread of phase D: joins into full cells, done serially
 
     int m_depth = 0;
     float m_originX = 0.0f;
@@ -153,7 +145,8 @@ private:
     float m_invLeaf = 1.0f;
     float m_maxCoord = 0.0f; // 2^depth - 1, as float
 
-    std::vector<std::vector<Entry>> m_cells;          // all levels, level l at LevelOffset(l)
+    CellStore m_store;                                // all levels' cells, level l at LevelOffset(l)
+    int64_t m_stored = 0;                             // ids stored
     std::vector<std::vector<ProxyId>> m_levelProxies; // per level
     std::vector<Location> m_location;                 // per id
     int32_t m_outsideCount = 0;
@@ -187,7 +180,7 @@ void Pyramid::Visit(const Box& query, Visitor&& visit) const
             for (ProxyId id : levelList)
             {
                 const Location& loc = m_location[size_t(id)];
-                if (!visit(m_cells[size_t(loc.cell)][size_t(loc.slot)]))
+                if (!visit(m_store.Data(loc.cell)[loc.slot]))
                 {
                     return;
                 }
@@ -201,9 +194,11 @@ void Pyramid::Visit(const Box& query, Visitor&& visit) const
             const int32_t rowBase = offset + y * side;
             for (int32_t x = x0; x <= x1; ++x)
             {
-                for (const Entry& e : m_cells[size_t(rowBase + x)])
+                const Entry* entries = m_store.Data(rowBase + x);
+                const int32_t count = m_store.Size(rowBase + x);
+                for (int32_t i = 0; i < count; ++i)
                 {
-                    if (!visit(e))
+                    if (!visit(entries[i]))
                     {
                         return;
                     }

@@ -64,7 +64,7 @@ public:
             m_hasQueued.store(true, std::memory_order_release);
             if (__builtin_expect(m_queued.size() >= kQueueChunk, 0))
             {
-                ApplyQueued(Threads()); // bounded memory, and the queue stays in cache
+                ApplyQueued(ChunkThreads()); // bounded memory, and the queue stays in cache
             }
             return;
         }
@@ -120,9 +120,21 @@ private:
         Vec2 displacement;
         ProxyId id;
     };
-    // 8192 x 28 bytes: large enough that a parallel region pays for itself many times over (a few microseconds
-    // against ~40 microseconds of fat-box tests), small enough to stay in L2 and not to grow with the world.
-    static constexpr size_t kQueueChunk = 8192;
+    // 2048 x 28 bytes: large enough that a parallel region pays for itself (a few microseconds against ~20 of
+    // fat-box tests), small enough to stay in L1/L2 and to add little memory (57 KB) to any world.
+    static constexpr size_t kQueueChunk = 2048;
+
+    // Config::threads == 0: parallel or serial, whichever was measured faster per unit of work (queued moves,
+    // stale entries and buffered proxies) on recent calls. The other mode is re-measured every `probeEvery`
+    // eligible calls; a probe that loses doubles that interval (up to 1024), a win resets it.
+    struct ThreadChoice
+    {
+        double serialNs = 0.0;   // moving averages of ns per unit of work; 0 = not measured yet
+        double parallelNs = 0.0;
+        int64_t calls = 0;       // eligible calls so far
+        int64_t probeEvery = 32;
+        bool Parallel() const { return serialNs == 0.0 || parallelNs == 0.0 || parallelNs < serialNs; }
+    };
     // Applies the queue when it is not empty; the common empty case is one atomic load.
     void ApplyQueuedIfAny() const
     {
@@ -132,6 +144,8 @@ private:
         }
     }
     void ApplyQueuedLocked() const;
+    // Threads for applying a full queue: those of FindPairs, unless FindPairs currently runs serially by choice.
+    int ChunkThreads() const { return m_config.threads == 0 && !m_choice.Parallel() ? 1 : Threads(); }
     void QueueMoveSlow(ProxyId id, const Box& tight, Vec2 displacement);
     // Applies the queue: fat-box tests on `threads` threads, then (serially, in queue order) the stale list and the
     // move buffer. Requires exclusive access.
@@ -152,12 +166,12 @@ private:
     std::vector<std::vector<int32_t>> m_threadChanged; // ApplyQueued: per thread, queue indices that got a new fat box
     mutable std::atomic<bool> m_hasQueued{false}; // !m_queued.empty(), readable without the lock
     mutable std::mutex m_queueMutex; // serialises const calls that apply the queue
-    std::vector<ProxyId> m_work; // proxies whose pairs the current FindPairs searches
+    std::vector<ProxyId> m_work; // proxies whose pairs the current FindPairs searches (the pool's move buffer)
     std::vector<ProxyId> m_stale; // proxies whose fat box changed since their cell entry was written (see MoveProxy)
-    std::vector<ProxyId> m_batch; // the live ones among them, handed to Pyramid::UpdateBatch
     std::vector<std::vector<Pair>> m_blockPairs; // parallel FindPairs: the pairs of each block of m_work
     int32_t m_tunedCount = 0;    // live proxies at the last automatic tuning
     int32_t m_tunedOutside = 0;  // proxies outside the bounds right after the last automatic tuning
+    ThreadChoice m_choice;
     bool m_timing = false;
     mutable Stats m_counters;    // work counters only; shape fields are filled by GetStats
 };

@@ -27,6 +27,7 @@ struct Stats
     // Work counters since creation (or since ResetCounters()).
     int64_t updatePairsCalls = 0;
     int64_t parallelCalls = 0;            ///< FindPairs calls that ran an OpenMP parallel region
+    int64_t serialByChoice = 0;           ///< FindPairs calls run serially because parallel ones measured slower
     int64_t pairsReported = 0;            ///< pairs handed to the caller
     int64_t lastPairs = 0;                ///< pairs of the last UpdatePairs
     int64_t proxiesQueried = 0;           ///< moved/touched proxies whose neighbourhoods were searched

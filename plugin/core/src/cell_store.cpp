@@ -1,0 +1,163 @@
+#include "quadphase/cell_store.h"
+
+#include <algorithm>
+
+namespace quadphase
+{
+
+void CellStore::Reset(int32_t cellCount)
+{
+    m_cells.clear();
+    m_cells.shrink_to_fit();
+    m_cells.resize(size_t(cellCount));
+    m_entries.clear();
+    m_entries.shrink_to_fit();
+    std::fill(std::begin(m_freeHead), std::end(m_freeHead), kNone);
+}
+
+uint32_t CellStore::ClassFor(uint32_t count)
+{
+    uint32_t k = 0;
+    while ((uint32_t(1) << k) < count)
+    {
+        ++k;
+    }
+    return k;
+}
+
+uint32_t CellStore::Allocate(uint32_t sizeClass)
+{
+    const uint32_t head = m_freeHead[sizeClass];
+    if (head != kNone)
+    {
+        m_freeHead[sizeClass] = uint32_t(m_entries[head].id);
+        return head;
+    }
+    const size_t begin = m_entries.size();
+    const size_t end = begin + (size_t(1) << sizeClass);
+    if (end > m_entries.capacity())
+    {
+        // Grow by a quarter rather than double: the array is most of the pyramid's memory.
+        m_entries.reserve(std::max(end, m_entries.capacity() + m_entries.capacity() / 4));
+    }
+    m_entries.resize(end);
+    return uint32_t(begin);
+}
+
+void CellStore::Free(uint32_t begin, uint32_t sizeClass)
+{
+    m_entries[begin].id = ProxyId(m_freeHead[sizeClass]);
+    m_freeHead[sizeClass] = begin;
+}
+
+int32_t CellStore::Push(int32_t cell, const Entry& entry)
+{
+    if (!HasRoom(cell))
+    {
+        Cell& c = m_cells[size_t(cell)];
+        const uint32_t newClass = c.sizeClass == kNoBlock ? 0 : c.sizeClass + 1;
+        const uint32_t begin = Allocate(newClass); // may move m_entries
+        if (c.sizeClass != kNoBlock)
+        {
+            std::copy_n(m_entries.begin() + c.begin, c.size, m_entries.begin() + begin);
+            Free(c.begin, c.sizeClass);
+        }
+        c.begin = begin;
+        c.sizeClass = newClass;
+    }
+    return PushNoGrow(cell, entry);
+}
+
+void CellStore::Compact()
+{
+    size_t total = 0;
+    for (const Cell& c : m_cells)
+    {
+        total += c.size == 0 ? 0 : size_t(1) << ClassFor(c.size);
+    }
+    std::vector<Entry> entries;
+    entries.reserve(total);
+    for (Cell& c : m_cells)
+    {
+        if (c.size == 0)
+        {
+            c.begin = 0;
+            c.sizeClass = kNoBlock;
+            continue;
+        }
+        const uint32_t begin = uint32_t(entries.size());
+        const uint32_t sizeClass = ClassFor(c.size);
+        entries.insert(entries.end(), m_entries.begin() + c.begin, m_entries.begin() + c.begin + c.size);
+        entries.resize(begin + (size_t(1) << sizeClass));
+        c.begin = begin;
+        c.sizeClass = sizeClass;
+    }
+    m_entries.swap(entries);
+    std::fill(std::begin(m_freeHead), std::end(m_freeHead), kNone);
+}
+
+int64_t CellStore::MemoryBytes() const
+{
+    return int64_t(m_cells.capacity() * sizeof(Cell) + m_entries.capacity() * sizeof(Entry));
+}
+
+std::string CellStore::Validate() const
+{
+    // Mark every slot owned by a cell or a free block; an overlap or an out-of-range block is a violation.
+    std::vector<uint8_t> owned(m_entries.size(), 0);
+    auto claim = [&](uint32_t begin, uint32_t sizeClass, const std::string& who) -> std::string {
+        const size_t end = size_t(begin) + (size_t(1) << sizeClass);
+        if (end > m_entries.size())
+        {
+            return who + " has a block past the end of the array";
+        }
+        for (size_t i = begin; i < end; ++i)
+        {
+            if (owned[i]++ != 0)
+            {
+                return who + " has a block overlapping another one at slot " + std::to_string(i);
+            }
+        }
+        return {};
+    };
+    for (size_t i = 0; i < m_cells.size(); ++i)
+    {
+        const Cell& c = m_cells[i];
+        if (c.sizeClass == kNoBlock)
+        {
+            if (c.size != 0)
+            {
+                return "cell " + std::to_string(i) + " holds entries but no block";
+            }
+            continue;
+        }
+        if (c.size > (uint32_t(1) << c.sizeClass))
+        {
+            return "cell " + std::to_string(i) + " holds more entries than its block";
+        }
+        const std::string problem = claim(c.begin, c.sizeClass, "cell " + std::to_string(i));
+        if (!problem.empty())
+        {
+            return problem;
+        }
+    }
+    for (uint32_t k = 0; k < uint32_t(kClasses); ++k)
+    {
+        size_t steps = 0;
+        for (uint32_t b = m_freeHead[k]; b != kNone; b = uint32_t(m_entries[b].id))
+        {
+            if (b >= m_entries.size() || ++steps > m_entries.size())
+            {
+                return "free list " + std::to_string(k) + " is broken";
+            }
+            const std::string problem = claim(b, k, "free list " + std::to_string(k));
+            if (!problem.empty())
+            {
+                return problem;
+            }
+        }
+    }
+    return {};
+}
+
+} // namespace quadphase
