@@ -444,7 +444,8 @@ def write_report(rows, meta, info, scenes, md_path, png_rel, reading_path, comma
     L.append("")
     L.append("- **stock tree**: untouched Box2D (`b2DynamicTree`).")
     L.append("- **quadphase**: the static quadtree adapter, automatic depth (which re-tunes itself) at 1 and 2 "
-             "threads, and fixed depths auto−2, auto−1, auto+1 (auto = the depth it picks for the built scene).")
+             "threads, and fixed depths auto−2, auto−1, auto+1 (auto = the depth it picks for the built scene; relative "
+             "depths and levels are clamped to the valid range, so two of them can coincide, as in tumbler).")
     L.append("- **paper**: the paper's design (`bench/baselines/paper_quadtree.h`) as the broadphase, through "
              "`bench/accuracy/paper_box2d` (an adapter like plugin/box2d's). It reports, every `UpdatePairs`, every "
              "pair it finds among all proxies, as the paper does; Box2D drops repeats. Its bounds are fixed: the "
