@@ -1,7 +1,12 @@
 #!/usr/bin/env bash
-# Sanitizer run: builds the whole test suite with clang-14, AddressSanitizer and UndefinedBehaviorSanitizer (both
-# Box2D builds, the core, the adapter, the scenes and every test program) and runs it with CTest. Any sanitizer
-# report fails the test it happens in (-fno-sanitize-recover, halt_on_error), so a green run means no report.
+# Sanitizer run: builds the whole test suite with GCC, AddressSanitizer (with LeakSanitizer) and
+# UndefinedBehaviorSanitizer, float-cast-overflow included (both Box2D builds, the core, the adapter, the scenes and
+# every test program) and runs it with CTest. Any sanitizer report fails the test it happens in
+# (-fno-sanitize-recover=all, halt_on_error), so a green run means no report.
+#
+# Why GCC and not clang-14 (the fuzzer's compiler): the suite's physics tests are tuned to GCC's float results; a
+# clang build steps some scenes differently (e.g. box2d_query_dump's "mixed" world hits 94 of 300 rays under clang
+# -O1, 103 under GCC, against a floor of 100), which fails tests for reasons that have nothing to do with memory.
 #
 # Left out, and why:
 #   - the package tests (label "package", QUADPHASE_PACKAGE_TESTS=OFF): they install and rebuild the project with
@@ -24,21 +29,25 @@ fi
 
 build_dir=${BUILD_DIR:-build-asan}
 jobs=${JOBS:-$(nproc 2>/dev/null || echo 2)}
-llvm_lib=/usr/lib/llvm-14/lib
 
-sanitizers="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer"
+sanitizers="-fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=all -fno-omit-frame-pointer"
 configure_args=(-S . -B "$build_dir"
     -DCMAKE_BUILD_TYPE=RelWithDebInfo
-    -DCMAKE_CXX_COMPILER=clang++-14
+    -DCMAKE_CXX_COMPILER=g++
     "-DCMAKE_CXX_FLAGS=$sanitizers"
     "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g"
-    "-DCMAKE_EXE_LINKER_FLAGS=$sanitizers -Wl,-rpath,$llvm_lib"
+    "-DCMAKE_EXE_LINKER_FLAGS=$sanitizers"
     -DQUADPHASE_BUILD_BENCH=OFF -DQUADPHASE_BUILD_EXAMPLES=OFF -DQUADPHASE_INSTALL=OFF
     -DQUADPHASE_PACKAGE_TESTS=OFF)
 [[ -n "${QUADPHASE_BOX2D_SOURCE_DIR:-}" ]] && configure_args+=("-DQUADPHASE_BOX2D_SOURCE_DIR=$QUADPHASE_BOX2D_SOURCE_DIR")
 [[ -n "${QUADPHASE_BOX2D_TARBALL:-}" ]] && configure_args+=("-DQUADPHASE_BOX2D_TARBALL=$QUADPHASE_BOX2D_TARBALL")
 
+mkdir -p "$build_dir"
+# Leaks inside system libraries we do not own: fontconfig's font cache (through cairo, in the scene_cli tests'
+# PNG frames) is never freed by design.
+printf 'leak:libfontconfig.so\n' >"$build_dir/lsan.supp"
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1"
+export LSAN_OPTIONS="suppressions=$(cd "$build_dir" && pwd)/lsan.supp"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
 export OMP_NUM_THREADS=2
 
