@@ -24,7 +24,7 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 
-# (scene, size, simulated seconds). Modest sizes: the whole sweep takes about 10-15 minutes on 2 cores.
+# (scene, size, simulated seconds). Modest sizes: the whole sweep (2 rounds) took about 25 minutes on 2 busy cores.
 SCENES = [
     ("pyramid", 20, 10.0),
     ("tiles", 1000, 10.0),

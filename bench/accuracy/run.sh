@@ -4,7 +4,7 @@
 # bench/accuracy/accuracy.py, which sweeps scenes x broadphase configurations x step settings and writes
 # docs/accuracy.md and docs/accuracy/*.png (raw results in BUILD_DIR/accuracy/). See bench/accuracy/README.md.
 #
-#   bench/accuracy/run.sh                       # the whole sweep, 2 rounds (about 10-15 minutes on 2 cores)
+#   bench/accuracy/run.sh                       # the whole sweep, 2 rounds (about 25 minutes on 2 busy cores; --rounds 1 halves it)
 #   bench/accuracy/run.sh --rounds 1 --scenes pyramid,particles
 #   bench/accuracy/run.sh --replot              # plots and report again from the last sweep's results
 #   bench/accuracy/run.sh --help
