@@ -33,18 +33,13 @@ inline bool Refatten(const FatPolicy& policy, Box& stored, const Box& tight, Vec
 
     const float dx = policy.multiplier * displacement.x;
     const float dy = policy.multiplier * displacement.y;
-    // Written as additions of selected terms, not branches: the direction of motion is random per body, and a
-    // mispredicted branch costs more than both additions (the selects compile to min/blend instructions). The
-    // side that does not move gets "+ -0.0f", which leaves every float bit for bit as it is (x + -0.0f == x, also
-    // for x = -0.0f), so the results are the same floats as Box2D's if/else, NaN displacements included.
-    const float loX = dx < 0.0f ? dx : -0.0f;
-    const float hiX = dx < 0.0f ? -0.0f : dx;
-    const float loY = dy < 0.0f ? dy : -0.0f;
-    const float hiY = dy < 0.0f ? -0.0f : dy;
-    fat.minX += loX;
-    fat.maxX += hiX;
-    fat.minY += loY;
-    fat.maxY += hiY;
+    // Written as selects: the side that does not move is selected unchanged, as in Box2D's if/else, so the results
+    // are the same floats with any compiler and flags. (An addition of "-0.0f" for that side was tried: exact in
+    // IEEE arithmetic, but clang -O1 then produced a different sign of zero in one fuzzed case.)
+    fat.minX = dx < 0.0f ? fat.minX + dx : fat.minX;
+    fat.maxX = dx < 0.0f ? fat.maxX : fat.maxX + dx;
+    fat.minY = dy < 0.0f ? fat.minY + dy : fat.minY;
+    fat.maxY = dy < 0.0f ? fat.maxY : fat.maxY + dy;
 
     // Keep the stored box when it still contains the shape's box and lies inside the new fat box grown by a
     // further 4 x extension. The eight comparisons are combined with & rather than &&: whether a body's box

@@ -57,7 +57,8 @@ public:
     {
         // Inline fast path (Box2D calls this once per moving fixture, on one thread); anything unusual (unknown
         // id, bad box, a second move of the proxy, timing on) takes the out-of-line path.
-        if (__builtin_expect(m_pool.IsLiveAndNotPending(id) & IsSane(tight) & !m_timing, 1))
+        // int operands: & on bools is what is meant (no short-circuit branches), and clang warns otherwise.
+        if (__builtin_expect(int(m_pool.IsLiveAndNotPending(id)) & int(IsSane(tight)) & int(!m_timing), 1))
         {
             m_pool.MarkPending(id);
             m_queued.push_back(QueuedMove{tight, displacement, id});
