@@ -209,7 +209,8 @@ int64_t Pyramid::UpdateBatch(const std::vector<ProxyId>& ids, const Box* boxes, 
         }
     };
     // A join into a full cell needs a larger block, which only one thread may allocate: it is listed, and so are
-    // all later joins into that cell (it stays full), and done after the parallel phases in list order.
+    // all later joins into that cell (nothing leaves a cell in D, so it stays full), and done after the parallel
+    // phases in list order. The cell's entries therefore end in list order either way.
     auto joinCells = [&](int owners, int me) {
         std::vector<Change>& overflow = m_overflow[size_t(me)];
         overflow.clear();
@@ -221,7 +222,7 @@ int64_t Pyramid::UpdateBatch(const std::vector<ProxyId>& ids, const Box* boxes, 
                 {
                     Location& loc = m_location[size_t(c.id)];
                     loc.cell = c.toCell;
-                    if (overflow.empty() && m_store.HasRoom(c.toCell))
+                    if (m_store.HasRoom(c.toCell))
                     {
                         loc.slot = m_store.PushNoGrow(c.toCell, Entry{boxes[c.id], c.id});
                     }

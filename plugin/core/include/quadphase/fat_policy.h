@@ -3,6 +3,9 @@
 // difference here would change the simulation.
 #pragma once
 
+#include <cstdint>
+#include <cstring>
+
 #include "quadphase/box.h"
 
 namespace quadphase
@@ -22,39 +25,86 @@ inline Box FattenNew(const FatPolicy& policy, const Box& tight)
     return Box{tight.minX - r, tight.minY - r, tight.maxX + r, tight.maxY + r};
 }
 
-/// Decides whether a moved shape needs a new fat box, as b2DynamicTree::MoveProxy does.
-/// Returns false and leaves `stored` alone when the stored fat box still contains `tight` and is not too large
-/// (it lies inside the new fat box grown by a further 4 x extension). Otherwise writes the new fat box
-/// (grown by `extension`, then stretched by multiplier x displacement in the direction of motion) and returns true.
-inline bool Refatten(const FatPolicy& policy, Box& stored, const Box& tight, Vec2 displacement)
+/// `condition ? a : b`, bit for bit, without a branch.
+inline float SelectBits(bool condition, float a, float b)
+{
+    const uint32_t mask = uint32_t(0) - uint32_t(condition);
+    uint32_t ia;
+    uint32_t ib;
+    std::memcpy(&ia, &a, sizeof(ia));
+    std::memcpy(&ib, &b, sizeof(ib));
+    const uint32_t r = (ia & mask) | (ib & ~mask);
+    float out;
+    std::memcpy(&out, &r, sizeof(out));
+    return out;
+}
+
+/// The fat box b2DynamicTree::MoveProxy would give a moved shape: its box grown by `extension`, then stretched by
+/// multiplier x displacement in the direction of motion.
+inline Box MovedFatBox(const FatPolicy& policy, const Box& tight, Vec2 displacement)
 {
     const float r = policy.extension;
     Box fat{tight.minX - r, tight.minY - r, tight.maxX + r, tight.maxY + r};
 
     const float dx = policy.multiplier * displacement.x;
     const float dy = policy.multiplier * displacement.y;
-    // Written as selects: the side that does not move is selected unchanged, as in Box2D's if/else, so the results
-    // are the same floats with any compiler and flags. (An addition of "-0.0f" for that side was tried: exact in
-    // IEEE arithmetic, but clang -O1 then produced a different sign of zero in one fuzzed case.)
-    fat.minX = dx < 0.0f ? fat.minX + dx : fat.minX;
-    fat.maxX = dx < 0.0f ? fat.maxX : fat.maxX + dx;
-    fat.minY = dy < 0.0f ? fat.minY + dy : fat.minY;
-    fat.maxY = dy < 0.0f ? fat.maxY : fat.maxY + dy;
+    // Selects, as in Box2D's if/else: the side that does not move is selected unchanged, so the results are the
+    // same floats with any compiler and flags. (An addition of "-0.0f" for that side was tried: exact in IEEE
+    // arithmetic, but clang -O1 then produced a different sign of zero in one fuzzed case.) The selects copy bits
+    // through a mask rather than use ?: on floats, which compilers turn into branches on the (random) direction.
+    const bool left = dx < 0.0f;
+    const bool down = dy < 0.0f;
+    fat.minX = SelectBits(left, fat.minX + dx, fat.minX);
+    fat.maxX = SelectBits(left, fat.maxX, fat.maxX + dx);
+    fat.minY = SelectBits(down, fat.minY + dy, fat.minY);
+    fat.maxY = SelectBits(down, fat.maxY, fat.maxY + dy);
+    return fat;
+}
 
-    // Keep the stored box when it still contains the shape's box and lies inside the new fat box grown by a
-    // further 4 x extension. The eight comparisons are combined with & rather than &&: whether a body's box
-    // still fits is close to random from one body to the next, so short-circuit branches mispredict often.
-    const float h = 4.0f * r;
+/// True when b2DynamicTree::MoveProxy keeps the stored fat box: it still contains the shape's box and lies inside
+/// the new fat box `fat` (MovedFatBox) grown by a further 4 x extension.
+inline bool KeepsFatBox(const FatPolicy& policy, const Box& stored, const Box& tight, const Box& fat)
+{
+    // The eight comparisons are combined with & rather than &&: whether a body's box still fits is close to random
+    // from one body to the next, so short-circuit branches mispredict often.
+    const float h = 4.0f * policy.extension;
     const Box huge{fat.minX - h, fat.minY - h, fat.maxX + h, fat.maxY + h};
-    const int keep = int(stored.minX <= tight.minX) & int(stored.minY <= tight.minY) &
-                     int(tight.maxX <= stored.maxX) & int(tight.maxY <= stored.maxY) & int(huge.minX <= stored.minX) &
-                     int(huge.minY <= stored.minY) & int(stored.maxX <= huge.maxX) & int(stored.maxY <= huge.maxY);
-    if (keep != 0)
+    return (int(stored.minX <= tight.minX) & int(stored.minY <= tight.minY) & int(tight.maxX <= stored.maxX) &
+            int(tight.maxY <= stored.maxY) & int(huge.minX <= stored.minX) & int(huge.minY <= stored.minY) &
+            int(stored.maxX <= huge.maxX) & int(stored.maxY <= huge.maxY)) != 0;
+}
+
+/// Decides whether a moved shape needs a new fat box, as b2DynamicTree::MoveProxy does.
+/// Returns false and leaves `stored` alone when KeepsFatBox; otherwise writes MovedFatBox and returns true.
+inline bool Refatten(const FatPolicy& policy, Box& stored, const Box& tight, Vec2 displacement)
+{
+    const Box fat = MovedFatBox(policy, tight, displacement);
+    if (KeepsFatBox(policy, stored, tight, fat))
     {
         return false;
     }
     stored = fat;
     return true;
+}
+
+/// Refatten without a branch on the outcome, for loops over many proxies (the outcome is close to random from one
+/// proxy to the next): `stored` is always rewritten, with its own bits or the new box's. Same results as Refatten.
+inline bool RefattenNoBranch(const FatPolicy& policy, Box& stored, const Box& tight, Vec2 displacement)
+{
+    const Box fat = MovedFatBox(policy, tight, displacement);
+    const bool keep = KeepsFatBox(policy, stored, tight, fat);
+    // A bitwise select: copies float bits exactly (no arithmetic on them).
+    const uint32_t keepMask = uint32_t(0) - uint32_t(keep);
+    uint32_t oldBits[4];
+    uint32_t newBits[4];
+    std::memcpy(oldBits, &stored, sizeof(oldBits));
+    std::memcpy(newBits, &fat, sizeof(newBits));
+    for (int k = 0; k < 4; ++k)
+    {
+        oldBits[k] = (oldBits[k] & keepMask) | (newBits[k] & ~keepMask);
+    }
+    std::memcpy(&stored, oldBits, sizeof(oldBits));
+    return !keep;
 }
 
 } // namespace quadphase
