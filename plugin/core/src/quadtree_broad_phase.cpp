@@ -46,6 +46,13 @@ inline void CheckBox(const Box& b, const char* call, ProxyId id)
 
 const Box kEmptyBox{0.0f, 0.0f, 0.0f, 0.0f};
 
+// Config::parallelThreshold counts pair queries (100-300 ns each): the break-even of a parallel region. A queued
+// move's fat-box test costs about 4 ns and a re-placement about 15-30 ns, so the same break-even needs that many
+// more of them. Without these factors a 200-body scene opened three parallel regions per step instead of none,
+// and 2 threads were slower than 1 (bench/results/parallel.md, (c)).
+constexpr int64_t kApplyPerQuery = 32;
+constexpr int64_t kPlacePerQuery = 8;
+
 // Percentile p (0..1) of values, reordering them.
 float Percentile(std::vector<float>& values, double p)
 {
@@ -173,7 +180,7 @@ void QuadtreeBroadPhase::ApplyQueued(int threads)
     // Each proxy is queued at most once, so the fat-box tests touch disjoint boxes and flags and can run on any
     // thread. Thread t tests a contiguous range of the queue (static schedule) and lists, in order, the moves that
     // gave a new fat box; the lists joined in thread order are in queue order whatever the thread count.
-    const int team = threads > 1 && count >= int64_t(m_config.parallelThreshold) ? threads : 1;
+    const int team = threads > 1 && count >= kApplyPerQuery * int64_t(m_config.parallelThreshold) ? threads : 1;
     if (int(m_threadChanged.size()) < team)
     {
         m_threadChanged.resize(size_t(team));
@@ -362,7 +369,7 @@ void QuadtreeBroadPhase::UpdateStaleEntries(int threads)
         }
     }
     m_stale.resize(kept);
-    const bool parallel = threads > 1 && int64_t(kept) >= int64_t(m_config.parallelThreshold);
+    const bool parallel = threads > 1 && int64_t(kept) >= kPlacePerQuery * int64_t(m_config.parallelThreshold);
     m_counters.reinserts += m_pyramid.UpdateBatch(m_stale, m_pool.FatData(), parallel ? threads : 1);
     m_stale.clear();
     m_counters.updateSeconds += SecondsSince(start);

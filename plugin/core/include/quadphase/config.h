@@ -47,6 +47,8 @@ struct Config
 
     /// FindPairs with fewer buffered proxies than this runs serially, with no parallel region at all: a parallel
     /// region costs a few microseconds, more than the queries of a small scene or of a time-of-impact update.
+    /// The cheaper per-proxy phases scale it: queued moves are applied in parallel from 32x this many, re-placed
+    /// from 8x.
     /// Chosen from bench/ measurements; see docs/design.md, "Parallel pair generation".
     int parallelThreshold = 128;
 };
