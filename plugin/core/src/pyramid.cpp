@@ -168,7 +168,7 @@ int64_t Pyramid::UpdateBatch(const std::vector<ProxyId>& ids, const Box* boxes, 
             }
             else
             {
-                changes.push_back(Change{id, cell, int8_t(level), level == loc.level});
+                changes.push_back(Change{id, loc.cell, cell, int8_t(level), level == loc.level});
             }
         }
         return delta;
@@ -201,7 +201,7 @@ int64_t Pyramid::UpdateBatch(const std::vector<ProxyId>& ids, const Box* boxes, 
         {
             for (const Change& c : m_changes[size_t(t)])
             {
-                if (c.sameLevel && (m_location[size_t(c.id)].cell >> 4) % owners == me)
+                if (c.sameLevel && (c.fromCell >> 4) % owners == me)
                 {
                     RemoveFromCell(c.id);
                 }

@@ -150,8 +150,17 @@ void QuadtreeBroadPhase::QueueMoveSlow(ProxyId id, const Box& tight, Vec2 displa
         ApplyQueued(1);
         m_pool.MarkPending(id);
     }
-    m_queued.push_back(QueuedMove{tight, displacement, id});
+    if (m_queuedCount == m_queued.size())
+    {
+        // Grows by doubling up to kQueueChunk, so a small world holds a small queue.
+        m_queued.resize(std::min(kQueueChunk, std::max<size_t>(64, 2 * m_queued.size())));
+    }
+    m_queued[m_queuedCount++] = QueuedMove{tight, displacement, id};
     m_hasQueued.store(true, std::memory_order_release);
+    if (m_queuedCount >= kQueueChunk)
+    {
+        ApplyQueued(ChunkThreads());
+    }
     if (m_timing)
     {
         m_counters.updateSeconds += SecondsSince(start);
@@ -171,15 +180,15 @@ void QuadtreeBroadPhase::ApplyQueuedLocked() const
 
 void QuadtreeBroadPhase::ApplyQueued(int threads)
 {
-    const int64_t count = int64_t(m_queued.size());
+    const int64_t count = int64_t(m_queuedCount);
     if (count == 0)
     {
         return;
     }
     const Clock::time_point start = Clock::now();
-    // Each proxy is queued at most once, so the fat-box tests touch disjoint boxes and flags and can run on any
-    // thread. Thread t tests a contiguous range of the queue (static schedule) and lists, in order, the moves that
-    // gave a new fat box; the lists joined in thread order are in queue order whatever the thread count.
+    // Each proxy is queued at most once, so the fat-box tests touch disjoint boxes, flags and cell entries and can
+    // run on any thread. Thread t takes a contiguous range of the queue (static schedule) and lists, in order, the
+    // moves that gave a new fat box; the lists joined in thread order are in queue order whatever the thread count.
     const int team = threads > 1 && count >= kApplyPerQuery * int64_t(m_config.parallelThreshold) ? threads : 1;
     if (int(m_threadChanged.size()) < team)
     {
@@ -189,9 +198,18 @@ void QuadtreeBroadPhase::ApplyQueued(int threads)
     Box* fat = m_pool.MutableFatData();
     const FatPolicy policy = m_policy;
     ProxyPool& pool = m_pool;
-    // No branch on the outcome (RefattenNoBranch, and an append that always writes and advances by the outcome):
-    // whether a body keeps its fat box is close to random, and the mispredictions cost more than the test.
-    auto testRange = [&](int64_t begin, int64_t end, std::vector<int32_t>& changed) {
+    Pyramid& pyramid = m_pyramid;
+    // Two passes over the range:
+    // 1. the fat-box tests, without a branch on the outcome (RefattenNoBranch, and an append that always writes
+    //    and advances by the outcome): whether a body keeps its fat box is close to random, and the mispredictions
+    //    cost more than the test;
+    // 2. each new fat box is written into the proxy's cell entry when it stays in its cell (most do: a fat box is
+    //    smaller than a cell); only the others become stale and wait for UpdateStaleEntries. Listed as 2 x index
+    //    + 1 when stale, 2 x index when done.
+    // Captured by value: through references the compiler reloads them after every flag store (char stores may
+    // alias anything).
+    auto applyRange = [queued, fat, policy, &pool, &pyramid](int64_t begin, int64_t end,
+                                                             std::vector<int32_t>& changed) {
         changed.resize(size_t(end - begin));
         int32_t* out = changed.data();
         size_t n = 0;
@@ -203,28 +221,39 @@ void QuadtreeBroadPhase::ApplyQueued(int threads)
             n += RefattenNoBranch(policy, fat[move.id], move.tight, move.displacement) ? 1 : 0;
         }
         changed.resize(n);
+        int32_t outsideDelta = 0;
+        for (size_t k = 0; k < n; ++k)
+        {
+            const int32_t i = out[k];
+            const ProxyId id = queued[i].id;
+            out[k] = 2 * i + (pyramid.RewriteInPlace(id, fat[id], outsideDelta) ? 0 : 1);
+        }
+        return outsideDelta;
     };
+    int32_t outsideDelta = 0;
     if (team > 1)
     {
-#pragma omp parallel num_threads(team)
+#pragma omp parallel num_threads(team) reduction(+ : outsideDelta)
         {
             const int64_t t = omp_get_thread_num();
             const int64_t n = omp_get_num_threads();
-            testRange(count * t / n, count * (t + 1) / n, m_threadChanged[size_t(t)]);
+            outsideDelta += applyRange(count * t / n, count * (t + 1) / n, m_threadChanged[size_t(t)]);
         }
         // With fewer threads than asked for, the ranges still cover the queue; the unused lists stay empty.
     }
     else
     {
-        testRange(0, count, m_threadChanged[0]);
+        outsideDelta = applyRange(0, count, m_threadChanged[0]);
     }
-    // In queue order, so the stale list and the move buffer are the ones MoveProxy calls would have built.
+    m_pyramid.AddOutsideDelta(outsideDelta);
+    // In queue order, so the stale list and the move buffer are the ones MoveProxy calls would have built (less
+    // the proxies already re-placed in their cell).
     for (int t = 0; t < team; ++t)
     {
-        for (int32_t i : m_threadChanged[size_t(t)])
+        for (int32_t code : m_threadChanged[size_t(t)])
         {
-            const ProxyId id = queued[i].id;
-            if (m_pool.MarkStale(id))
+            const ProxyId id = queued[code >> 1].id;
+            if ((code & 1) != 0 && m_pool.MarkStale(id))
             {
                 m_stale.push_back(id);
             }
@@ -232,7 +261,7 @@ void QuadtreeBroadPhase::ApplyQueued(int threads)
         }
         m_threadChanged[size_t(t)].clear();
     }
-    m_queued.clear();
+    m_queuedCount = 0;
     m_hasQueued.store(false, std::memory_order_release);
     m_counters.updateSeconds += SecondsSince(start);
 }
@@ -287,7 +316,7 @@ void QuadtreeBroadPhase::FindPairs(std::vector<Pair>& out)
 {
     const Clock::time_point start = Clock::now();
     int threads = Threads();
-    const int64_t work = int64_t(m_queued.size() + m_stale.size()) + m_pool.BufferedCount();
+    const int64_t work = int64_t(m_queuedCount + m_stale.size()) + m_pool.BufferedCount();
     const bool eligible = m_config.threads == 0 && threads > 1 && work >= int64_t(m_config.parallelThreshold);
     if (eligible)
     {
@@ -301,11 +330,15 @@ void QuadtreeBroadPhase::FindPairs(std::vector<Pair>& out)
         }
     }
     ApplyQueued(threads);
+    // Entries first, then the re-tune test: the test reads the outside count, which is complete only once every
+    // entry is up to date (ApplyQueued already updates the entries that stay in their cell). Queued and immediate
+    // moves then re-tune at the same call. A re-tune rebuilds from the fat boxes, so the update work is wasted
+    // then; re-tunes are rare.
+    UpdateStaleEntries(threads);
     if (NeedsRetune())
     {
         Retune();
     }
-    UpdateStaleEntries(threads);
     m_pool.LendBuffer(m_work);
     const size_t before = out.size();
     if (threads > 1 && int64_t(m_work.size()) >= int64_t(m_config.parallelThreshold))

@@ -93,17 +93,14 @@ inline bool RefattenNoBranch(const FatPolicy& policy, Box& stored, const Box& ti
 {
     const Box fat = MovedFatBox(policy, tight, displacement);
     const bool keep = KeepsFatBox(policy, stored, tight, fat);
-    // A bitwise select: copies float bits exactly (no arithmetic on them).
-    const uint32_t keepMask = uint32_t(0) - uint32_t(keep);
-    uint32_t oldBits[4];
-    uint32_t newBits[4];
-    std::memcpy(oldBits, &stored, sizeof(oldBits));
-    std::memcpy(newBits, &fat, sizeof(newBits));
-    for (int k = 0; k < 4; ++k)
-    {
-        oldBits[k] = (oldBits[k] & keepMask) | (newBits[k] & ~keepMask);
-    }
-    std::memcpy(&stored, oldBits, sizeof(oldBits));
+    // Bitwise selects, one float at a time (copies float bits exactly, no arithmetic on them). Selecting the
+    // whole box through an array made the compiler store two 8-byte halves and reload them as one 16-byte value:
+    // a store-forwarding stall that cost more than the test itself.
+    const Box old = stored;
+    stored.minX = SelectBits(keep, old.minX, fat.minX);
+    stored.minY = SelectBits(keep, old.minY, fat.minY);
+    stored.maxX = SelectBits(keep, old.maxX, fat.maxX);
+    stored.maxY = SelectBits(keep, old.maxY, fat.maxY);
     return !keep;
 }
 

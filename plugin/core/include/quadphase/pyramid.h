@@ -46,6 +46,29 @@ public:
     /// Returns true when it changed cell.
     bool Update(ProxyId id, const Box& box);
 
+    /// For a stored id whose box changed: when the placement rule keeps it in its cell, rewrites the entry's box
+    /// and the id's outside flag, adds the change of OutsideCount() to `outsideDelta` (the caller hands the sum to
+    /// AddOutsideDelta) and returns true. Otherwise changes nothing and returns false: the caller re-places the id
+    /// later (Update, UpdateBatch). Threads may call it at the same time for distinct ids: it writes only this id's
+    /// location and entry.
+    bool RewriteInPlace(ProxyId id, const Box& box, int32_t& outsideDelta)
+    {
+        int level;
+        int32_t cell;
+        PlaceCell(box, level, cell);
+        Location& loc = m_location[size_t(id)];
+        if (cell != loc.cell)
+        {
+            return false;
+        }
+        m_store.Data(cell)[loc.slot].box = box;
+        const bool outside = !Inside(box);
+        outsideDelta += int32_t(outside) - int32_t(loc.outside);
+        loc.outside = outside;
+        return true;
+    }
+    void AddOutsideDelta(int32_t delta) { m_outsideCount += delta; }
+
     /// Replaces the stored boxes of the (distinct, stored) `ids` with `boxes[id]`, moving entries between cells as
     /// the placement rule says, and returns how many changed cell. It runs in phases whose result does not depend
     /// on `threads` (1 runs them without a parallel region):
@@ -130,6 +153,7 @@ private:
     struct Change
     {
         ProxyId id;
+        int32_t fromCell; // read here so that C's filter does not load every listed id's location
         int32_t toCell;
         int8_t toLevel;
         bool sameLevel; // changes cell within its level (phases C, D) rather than level (phase B)

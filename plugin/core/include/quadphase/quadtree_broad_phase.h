@@ -58,12 +58,19 @@ public:
         // Inline fast path (Box2D calls this once per moving fixture, on one thread); anything unusual (unknown
         // id, bad box, a second move of the proxy, timing on) takes the out-of-line path.
         // int operands: & on bools is what is meant (no short-circuit branches), and clang warns otherwise.
-        if (__builtin_expect(int(m_pool.IsLiveAndNotPending(id)) & int(IsSane(tight)) & int(!m_timing), 1))
+        if (__builtin_expect(int(m_pool.IsLiveAndNotPending(id)) & int(IsSane(tight)) & int(!m_timing) &
+                                 int(m_queuedCount < m_queued.size()),
+                             1))
         {
             m_pool.MarkPending(id);
-            m_queued.push_back(QueuedMove{tight, displacement, id});
+            // Field by field into the slot: a temporary QueuedMove copied in as a whole was a store-forwarding
+            // stall (two stores read back by one wider load), the largest cost of this call.
+            QueuedMove& slot = m_queued[m_queuedCount];
+            slot.tight = tight;
+            slot.displacement = displacement;
+            slot.id = id;
             m_hasQueued.store(true, std::memory_order_release);
-            if (__builtin_expect(m_queued.size() >= kQueueChunk, 0))
+            if (__builtin_expect(++m_queuedCount >= kQueueChunk, 0))
             {
                 ApplyQueued(ChunkThreads()); // bounded memory, and the queue stays in cache
             }
@@ -77,7 +84,7 @@ public:
     void ApplyQueuedMoves() const { ApplyQueuedIfAny(); }
 
     /// Moves recorded by QueueMove and not applied yet.
-    int32_t QueuedMoveCount() const { return int32_t(m_queued.size()); }
+    int32_t QueuedMoveCount() const { return int32_t(m_queuedCount); }
     void TouchProxy(ProxyId id) override;
     void FindPairs(std::vector<Pair>& out) override;
     void Query(const Box& box, QueryFn fn, void* context) const override;
@@ -164,9 +171,13 @@ private:
     Config m_config;
     ProxyPool m_pool;
     Pyramid m_pyramid;
-    std::vector<QueuedMove> m_queued; // QueueMove calls not applied yet, in call order, one per proxy at most
+    // QueueMove calls not applied yet, in call order, one per proxy at most: the first m_queuedCount slots. The
+    // vector's size is the queue's capacity (grown by QueueMoveSlow, up to kQueueChunk), so the fast path never
+    // allocates.
+    std::vector<QueuedMove> m_queued;
+    size_t m_queuedCount = 0;
     std::vector<std::vector<int32_t>> m_threadChanged; // ApplyQueued: per thread, queue indices that got a new fat box
-    mutable std::atomic<bool> m_hasQueued{false}; // !m_queued.empty(), readable without the lock
+    mutable std::atomic<bool> m_hasQueued{false}; // m_queuedCount > 0, readable without the lock
     mutable std::mutex m_queueMutex; // serialises const calls that apply the queue
     std::vector<ProxyId> m_work; // proxies whose pairs the current FindPairs searches (the pool's move buffer)
     std::vector<ProxyId> m_stale; // proxies whose fat box changed since their cell entry was written (see MoveProxy)
