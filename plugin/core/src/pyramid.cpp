@@ -117,18 +117,16 @@ void Pyramid::Remove(ProxyId id)
 
 bool Pyramid::Update(ProxyId id, const Box& box)
 {
+    int32_t outsideDelta = 0;
+    if (RewriteInPlace(id, box, outsideDelta))
+    {
+        m_outsideCount += outsideDelta;
+        return false;
+    }
     int level;
     int32_t cell;
     PlaceCell(box, level, cell);
-    Location& loc = m_location[size_t(id)];
     const bool outside = !Inside(box);
-    if (cell == loc.cell)
-    {
-        m_store.Data(cell)[loc.slot].box = box;
-        m_outsideCount += int32_t(outside) - int32_t(loc.outside);
-        loc.outside = outside;
-        return false;
-    }
     Remove(id);
     Store(id, box, level, cell);
     m_location[size_t(id)].outside = outside;
