@@ -2,8 +2,6 @@
 
 #include <string>
 
-#include <omp.h>
-
 namespace quadphase
 {
 namespace
@@ -117,173 +115,45 @@ void Pyramid::Remove(ProxyId id)
 
 bool Pyramid::Update(ProxyId id, const Box& box)
 {
-    int32_t outsideDelta = 0;
-    if (RewriteInPlace(id, box, outsideDelta))
-    {
-        m_outsideCount += outsideDelta;
-        return false;
-    }
     int level;
     int32_t cell;
     PlaceCell(box, level, cell);
+    Location& loc = m_location[size_t(id)];
     const bool outside = !Inside(box);
-    Remove(id);
-    Store(id, box, level, cell);
-    m_location[size_t(id)].outside = outside;
-    m_outsideCount += outside ? 1 : 0;
-    return true;
-}
-
-int64_t Pyramid::UpdateBatch(const std::vector<ProxyId>& ids, const Box* boxes, int threads)
-{
-    const int64_t count = int64_t(ids.size());
-    const int team = threads > 1 ? threads : 1;
-    if (int(m_changes.size()) < team)
+    const bool changesCell = cell != loc.cell;
+    if (!changesCell)
     {
-        m_changes.resize(size_t(team));
-        m_overflow.resize(size_t(team));
+        m_store.Data(cell)[loc.slot].box = box;
     }
-
-    // A. Places the boxes of ids[begin, end); rewrites in place the entries that stay in their cell and lists the
-    //    others. Touches only these ids' locations and entries. Returns the change of the outside count.
-    auto place = [&](int64_t begin, int64_t end, std::vector<Change>& changes) {
-        changes.clear();
-        int32_t delta = 0;
-        for (int64_t i = begin; i < end; ++i)
-        {
-            const ProxyId id = ids[size_t(i)];
-            const Box& box = boxes[id];
-            int level;
-            int32_t cell;
-            PlaceCell(box, level, cell);
-            Location& loc = m_location[size_t(id)];
-            const bool outside = !Inside(box);
-            delta += int32_t(outside) - int32_t(loc.outside);
-            loc.outside = outside;
-            if (cell == loc.cell)
-            {
-                m_store.Data(cell)[loc.slot].box = box;
-            }
-            else
-            {
-                changes.push_back(Change{id, loc.cell, cell, int8_t(level), level == loc.level});
-            }
-        }
-        return delta;
-    };
-    // B. Level changes are rare (a box changed size a lot); they also edit the shared level lists. One thread.
-    auto moveLevels = [&]() {
-        int64_t changed = 0;
-        for (int t = 0; t < team; ++t)
-        {
-            for (const Change& c : m_changes[size_t(t)])
-            {
-                ++changed;
-                if (!c.sameLevel)
-                {
-                    const bool outside = m_location[size_t(c.id)].outside;
-                    Remove(c.id);
-                    Store(c.id, boxes[c.id], c.toLevel, c.toCell);
-                    m_location[size_t(c.id)].outside = outside;
-                    m_outsideCount += outside ? 1 : 0;
-                }
-            }
-        }
-        return changed;
-    };
-    // C and D. Cells are dealt to threads in runs of 16; every thread reads all the lists in order and applies the
-    // operations of its own cells, so a cell's operations keep `ids` order whoever owns it. In C an entry's
-    // location still names its old cell (D rewrites it, after the barrier).
-    auto leaveCells = [&](int owners, int me) {
-        for (int t = 0; t < team; ++t)
-        {
-            for (const Change& c : m_changes[size_t(t)])
-            {
-                if (c.sameLevel && (c.fromCell >> 4) % owners == me)
-                {
-                    RemoveFromCell(c.id);
-                }
-            }
-        }
-    };
-    // A join into a full cell needs a larger block, which only one thread may allocate: it is listed, and so are
-    // all later joins into that cell (nothing leaves a cell in D, so it stays full), and done after the parallel
-    // phases in list order. The cell's entries therefore end in list order either way.
-    auto joinCells = [&](int owners, int me) {
-        std::vector<Change>& overflow = m_overflow[size_t(me)];
-        overflow.clear();
-        for (int t = 0; t < team; ++t)
-        {
-            for (const Change& c : m_changes[size_t(t)])
-            {
-                if (c.sameLevel && (c.toCell >> 4) % owners == me)
-                {
-                    Location& loc = m_location[size_t(c.id)];
-                    loc.cell = c.toCell;
-                    if (m_store.HasRoom(c.toCell))
-                    {
-                        loc.slot = m_store.PushNoGrow(c.toCell, Entry{boxes[c.id], c.id});
-                    }
-                    else
-                    {
-                        overflow.push_back(c);
-                    }
-                }
-            }
-        }
-    };
-    auto joinOverflow = [&]() {
-        for (const std::vector<Change>& overflow : m_overflow)
-        {
-            for (const Change& c : overflow)
-            {
-                m_location[size_t(c.id)].slot = m_store.Push(c.toCell, Entry{boxes[c.id], c.id});
-            }
-        }
-    };
-
-    int32_t outsideDelta = 0;
-    int64_t changed = 0;
-    if (team == 1)
+    else if (level == loc.level)
     {
-        // The same phases in the same order, without any OpenMP call: small batches (the UpdatePairs after a
-        // time-of-impact event) must not pay for a team.
-        outsideDelta = place(0, count, m_changes[0]);
-        changed = moveLevels();
-        leaveCells(1, 0);
-        joinCells(1, 0);
-        joinOverflow();
+        // Within its level (nearly every change: a moving body crosses into a neighbouring cell), the level's list
+        // keeps the id where it is.
+        RemoveFromCell(id);
+        loc.cell = cell;
+        loc.slot = m_store.Push(cell, Entry{box, id});
     }
     else
     {
-#pragma omp parallel num_threads(team) reduction(+ : outsideDelta)
-        {
-            // With fewer threads than asked for, the ranges still cover `ids`; the unused lists stay empty.
-            const int64_t me = omp_get_thread_num();
-            const int64_t size = omp_get_num_threads();
-            outsideDelta += place(count * me / size, count * (me + 1) / size, m_changes[size_t(me)]);
-#pragma omp barrier
-#pragma omp single
-            changed = moveLevels(); // implicit barrier
-            leaveCells(int(size), int(me));
-#pragma omp barrier
-            joinCells(int(size), int(me));
-        }
-        joinOverflow();
+        Remove(id); // also takes the old outside flag off the count and clears it
+        Store(id, box, level, cell);
     }
-    for (std::vector<Change>& changes : m_changes)
+    m_outsideCount += int32_t(outside) - int32_t(loc.outside);
+    loc.outside = outside;
+    return changesCell;
+}
+
+int64_t Pyramid::UpdateBatch(const std::vector<ProxyId>& ids, const Box* boxes)
+{
+    int64_t changed = 0;
+    for (ProxyId id : ids)
     {
-        changes.clear();
-    }
-    for (std::vector<Change>& overflow : m_overflow)
-    {
-        overflow.clear();
+        changed += Update(id, boxes[id]) ? 1 : 0;
     }
     if (m_store.Wasteful(m_stored))
     {
         m_store.Compact(); // amortised: the array doubled since it was last compact
     }
-    m_outsideCount += outsideDelta;
     return changed;
 }
 
@@ -308,15 +178,6 @@ int64_t Pyramid::MemoryBytes() const
         bytes += int64_t(list.capacity() * sizeof(ProxyId));
     }
     bytes += int64_t(m_location.capacity() * sizeof(Location));
-    bytes += int64_t((m_changes.capacity() + m_overflow.capacity()) * sizeof(std::vector<Change>));
-    for (const std::vector<Change>& changes : m_changes)
-    {
-        bytes += int64_t(changes.capacity() * sizeof(Change));
-    }
-    for (const std::vector<Change>& overflow : m_overflow)
-    {
-        bytes += int64_t(overflow.capacity() * sizeof(Change));
-    }
     return bytes;
 }
 

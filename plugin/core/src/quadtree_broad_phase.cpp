@@ -47,11 +47,10 @@ inline void CheckBox(const Box& b, const char* call, ProxyId id)
 const Box kEmptyBox{0.0f, 0.0f, 0.0f, 0.0f};
 
 // Config::parallelThreshold counts pair queries (100-300 ns each): the break-even of a parallel region. A queued
-// move's fat-box test costs about 4 ns and a re-placement about 15-30 ns, so the same break-even needs that many
-// more of them. Without these factors a 200-body scene opened three parallel regions per step instead of none,
-// and 2 threads were slower than 1 (bench/results/parallel.md, (c)).
+// move's fat-box test costs about 4 ns, so the same break-even needs that many more of them. Without this factor a
+// 200-body scene opened parallel regions it did not need, and 2 threads were slower than 1
+// (bench/results/parallel.md, (c)).
 constexpr int64_t kApplyPerQuery = 32;
-constexpr int64_t kPlacePerQuery = 8;
 
 // Percentile p (0..1) of values, reordering them.
 float Percentile(std::vector<float>& values, double p)
@@ -188,11 +187,12 @@ void QuadtreeBroadPhase::ApplyQueued(int threads)
     const Clock::time_point start = Clock::now();
     // Each proxy is queued at most once, so the fat-box tests touch disjoint boxes, flags and cell entries and can
     // run on any thread. Thread t takes a contiguous range of the queue (static schedule) and lists, in order, the
-    // moves that gave a new fat box; the lists joined in thread order are in queue order whatever the thread count.
+    // ids it adds to the stale list and to the move buffer; the lists joined in thread order are in queue order
+    // whatever the thread count.
     const int team = threads > 1 && count >= kApplyPerQuery * int64_t(m_config.parallelThreshold) ? threads : 1;
-    if (int(m_threadChanged.size()) < team)
+    if (int(m_threadLists.size()) < team)
     {
-        m_threadChanged.resize(size_t(team));
+        m_threadLists.resize(size_t(team));
     }
     const QueuedMove* queued = m_queued.data();
     Box* fat = m_pool.MutableFatData();
@@ -204,14 +204,16 @@ void QuadtreeBroadPhase::ApplyQueued(int threads)
     //    and advances by the outcome): whether a body keeps its fat box is close to random, and the mispredictions
     //    cost more than the test;
     // 2. each new fat box is written into the proxy's cell entry when it stays in its cell (most do: a fat box is
-    //    smaller than a cell); only the others become stale and wait for UpdateStaleEntries. Listed as 2 x index
-    //    + 1 when stale, 2 x index when done.
+    //    smaller than a cell); the others are flagged and listed stale and wait for UpdateStaleEntries. Every
+    //    proxy with a new fat box is flagged and listed for the move buffer. Flags of distinct ids are distinct
+    //    bytes, so threads set them without a lock; only the lists' concatenation is left to one thread.
     // Captured by value: through references the compiler reloads them after every flag store (char stores may
     // alias anything).
-    auto applyRange = [queued, fat, policy, &pool, &pyramid](int64_t begin, int64_t end,
-                                                             std::vector<int32_t>& changed) {
-        changed.resize(size_t(end - begin));
-        int32_t* out = changed.data();
+    auto applyRange = [queued, fat, policy, &pool, &pyramid](int64_t begin, int64_t end, ThreadLists& lists) {
+        std::vector<ProxyId>& buffered = lists.buffered;
+        std::vector<ProxyId>& stale = lists.stale;
+        buffered.resize(size_t(end - begin));
+        int32_t* out = buffered.data();
         size_t n = 0;
         for (int64_t i = begin; i < end; ++i)
         {
@@ -220,14 +222,22 @@ void QuadtreeBroadPhase::ApplyQueued(int threads)
             out[n] = int32_t(i);
             n += RefattenNoBranch(policy, fat[move.id], move.tight, move.displacement) ? 1 : 0;
         }
-        changed.resize(n);
+        stale.resize(n);
         int32_t outsideDelta = 0;
+        size_t nb = 0;
+        size_t ns = 0;
         for (size_t k = 0; k < n; ++k)
         {
-            const int32_t i = out[k];
-            const ProxyId id = queued[i].id;
-            out[k] = 2 * i + (pyramid.RewriteInPlace(id, fat[id], outsideDelta) ? 0 : 1);
+            const ProxyId id = queued[out[k]].id; // read before out[nb] (nb <= k) is written
+            if (!pyramid.RewriteInPlace(id, fat[id], outsideDelta) && pool.MarkStale(id))
+            {
+                stale[ns++] = id;
+            }
+            out[nb] = id;
+            nb += pool.MarkBuffered(id) ? 1 : 0;
         }
+        buffered.resize(nb);
+        stale.resize(ns);
         return outsideDelta;
     };
     int32_t outsideDelta = 0;
@@ -237,29 +247,24 @@ void QuadtreeBroadPhase::ApplyQueued(int threads)
         {
             const int64_t t = omp_get_thread_num();
             const int64_t n = omp_get_num_threads();
-            outsideDelta += applyRange(count * t / n, count * (t + 1) / n, m_threadChanged[size_t(t)]);
+            outsideDelta += applyRange(count * t / n, count * (t + 1) / n, m_threadLists[size_t(t)]);
         }
         // With fewer threads than asked for, the ranges still cover the queue; the unused lists stay empty.
     }
     else
     {
-        outsideDelta = applyRange(0, count, m_threadChanged[0]);
+        outsideDelta = applyRange(0, count, m_threadLists[0]);
     }
     m_pyramid.AddOutsideDelta(outsideDelta);
     // In queue order, so the stale list and the move buffer are the ones MoveProxy calls would have built (less
     // the proxies already re-placed in their cell).
     for (int t = 0; t < team; ++t)
     {
-        for (int32_t code : m_threadChanged[size_t(t)])
-        {
-            const ProxyId id = queued[code >> 1].id;
-            if ((code & 1) != 0 && m_pool.MarkStale(id))
-            {
-                m_stale.push_back(id);
-            }
-            m_pool.Buffer(id);
-        }
-        m_threadChanged[size_t(t)].clear();
+        ThreadLists& lists = m_threadLists[size_t(t)];
+        m_stale.insert(m_stale.end(), lists.stale.begin(), lists.stale.end());
+        m_pool.AppendBuffered(lists.buffered);
+        lists.stale.clear();
+        lists.buffered.clear();
     }
     m_queuedCount = 0;
     m_hasQueued.store(false, std::memory_order_release);
@@ -334,7 +339,7 @@ void QuadtreeBroadPhase::FindPairs(std::vector<Pair>& out)
     // entry is up to date (ApplyQueued already updates the entries that stay in their cell). Queued and immediate
     // moves then re-tune at the same call. A re-tune rebuilds from the fat boxes, so the update work is wasted
     // then; re-tunes are rare.
-    UpdateStaleEntries(threads);
+    UpdateStaleEntries();
     if (NeedsRetune())
     {
         Retune();
@@ -384,7 +389,7 @@ int QuadtreeBroadPhase::Threads() const
     return m_config.threads > 0 ? m_config.threads : omp_get_max_threads();
 }
 
-void QuadtreeBroadPhase::UpdateStaleEntries(int threads)
+void QuadtreeBroadPhase::UpdateStaleEntries()
 {
     if (m_stale.empty())
     {
@@ -402,8 +407,7 @@ void QuadtreeBroadPhase::UpdateStaleEntries(int threads)
         }
     }
     m_stale.resize(kept);
-    const bool parallel = threads > 1 && int64_t(kept) >= kPlacePerQuery * int64_t(m_config.parallelThreshold);
-    m_counters.reinserts += m_pyramid.UpdateBatch(m_stale, m_pool.FatData(), parallel ? threads : 1);
+    m_counters.reinserts += m_pyramid.UpdateBatch(m_stale, m_pool.FatData()); // one thread: see UpdateBatch
     m_stale.clear();
     m_counters.updateSeconds += SecondsSince(start);
 }
@@ -681,10 +685,10 @@ Stats QuadtreeBroadPhase::GetStats() const
                     int64_t((m_work.capacity() + m_stale.capacity()) * sizeof(ProxyId)) +
                     int64_t(m_queued.capacity() * sizeof(QueuedMove)) +
                     int64_t(m_blockPairs.capacity() * sizeof(std::vector<Pair>)) +
-                    int64_t(m_threadChanged.capacity() * sizeof(std::vector<int32_t>));
-    for (const std::vector<int32_t>& changed : m_threadChanged)
+                    int64_t(m_threadLists.capacity() * sizeof(ThreadLists));
+    for (const ThreadLists& lists : m_threadLists)
     {
-        s.memoryBytes += int64_t(changed.capacity() * sizeof(int32_t));
+        s.memoryBytes += int64_t((lists.stale.capacity() + lists.buffered.capacity()) * sizeof(ProxyId));
     }
     for (const std::vector<Pair>& pairs : m_blockPairs)
     {

@@ -41,14 +41,15 @@ struct Config
     int threads = 0;
 
     /// OpenMP schedule of the loop over blocks of buffered proxies, and its chunk size in blocks (0: OpenMP's
-    /// default for that schedule). The pairs and their order do not depend on them.
-    Schedule schedule = Schedule::Static;
+    /// default for that schedule). The pairs and their order do not depend on them. Guided by default: it ties
+    /// with static when the queries cost alike, and evens out scenes whose load is uneven (a pile forming under
+    /// falling bodies), where static's contiguous halves leave a thread waiting; see docs/design.md.
+    Schedule schedule = Schedule::Guided;
     int chunk = 0;
 
     /// FindPairs with fewer buffered proxies than this runs serially, with no parallel region at all: a parallel
     /// region costs a few microseconds, more than the queries of a small scene or of a time-of-impact update.
-    /// The cheaper per-proxy phases scale it: queued moves are applied in parallel from 32x this many, re-placed
-    /// from 8x.
+    /// Queued moves, cheaper per proxy, are applied in parallel from 32x this many.
     /// Chosen from bench/ measurements; see docs/design.md, "Parallel pair generation".
     int parallelThreshold = 128;
 };

@@ -58,6 +58,22 @@ public:
         }
     }
 
+    /// Buffer in two steps, for loops that run on several threads over distinct ids: MarkBuffered flags a live
+    /// proxy and returns true when it was not flagged yet; the caller must then append exactly those ids, in the
+    /// order it wants them, with AppendBuffered (on one thread) before anything else reads the pool. Between the
+    /// two the invariant "flagged exactly when in the buffer" does not hold.
+    bool MarkBuffered(ProxyId id)
+    {
+        uint8_t& s = m_state[size_t(id)];
+        const bool fresh = (s & kBuffered) == 0;
+        s |= kBuffered;
+        return fresh;
+    }
+    void AppendBuffered(const std::vector<ProxyId>& ids)
+    {
+        m_moveBuffer.insert(m_moveBuffer.end(), ids.begin(), ids.end());
+    }
+
     /// Moves the live buffered proxies, in buffer order, into `work` (cleared first) and empties the buffer.
     /// Each proxy in `work` is flagged "in work" until ReleaseWork; see InWork.
     void TakeBuffer(std::vector<ProxyId>& work);

@@ -42,8 +42,8 @@ public:
     /// Lays the cells' entries out in cell order (see CellStore::Compact). Call after inserting many proxies.
     void Compact() { m_store.Compact(); }
 
-    /// Replaces the stored box of `id`, moving it to another cell when the placement rule says so.
-    /// Returns true when it changed cell.
+    /// Replaces the stored box of `id`, moving it to another cell when the placement rule says so (within its
+    /// level, its slot in the level's list is kept). Returns true when it changed cell.
     bool Update(ProxyId id, const Box& box);
 
     /// For a stored id whose box changed: when the placement rule keeps it in its cell, rewrites the entry's box
@@ -69,18 +69,13 @@ public:
     }
     void AddOutsideDelta(int32_t delta) { m_outsideCount += delta; }
 
-    /// Replaces the stored boxes of the (distinct, stored) `ids` with `boxes[id]`, moving entries between cells as
-    /// the placement rule says, and returns how many changed cell. It runs in phases whose result does not depend
-    /// on `threads` (1 runs them without a parallel region):
-    ///  A. (parallel over ids, each thread a contiguous range) place each box; an entry that stays in its cell is
-    ///     rewritten in place; each thread lists its entries that change cell, in `ids` order;
-    ///  B. (one thread) entries that change level are moved, in `ids` order;
-    ///  C. (parallel over cells) entries that change cell within their level leave their old cell;
-    ///  D. (parallel over cells) they join their new cell.
-    /// B, C and D read only the lists of A, joined in thread order, which is `ids` order. In C and D each cell
-    /// belongs to one thread, which applies that cell's removals, then insertions, in `ids` order; so every cell
-    /// ends with the same entries in the same order at any thread count.
-    int64_t UpdateBatch(const std::vector<ProxyId>& ids, const Box* boxes, int threads);
+    /// Update for each of the (distinct, stored) `ids`, with box `boxes[id]`, in `ids` order; then compacts the
+    /// cell store when it has grown wasteful. Returns how many changed cell. One thread: on this 2-core machine a
+    /// parallel version (place over ids, then leave and join cells, each cell owned by one thread) ran at
+    /// 0.62-0.93x this loop's speed from 2k to 32k cell changes, because each id's location and cells passed
+    /// between the cores' caches from phase to phase (docs/design.md, "Grid maintenance"). The parallel part of
+    /// grid maintenance is the in-cell rewrite (RewriteInPlace), which needs no cross-thread ordering.
+    int64_t UpdateBatch(const std::vector<ProxyId>& ids, const Box* boxes);
 
     /// Calls visit(const Entry&) for every stored entry that may overlap `query` (a superset of the overlapping
     /// ones, each entry at most once), level by level from the root, until visit returns false. The ranges of
@@ -148,18 +143,6 @@ private:
     void PlaceCell(const Box& box, int& level, int32_t& cell) const;
     void Store(ProxyId id, const Box& box, int level, int32_t cell);
     void RemoveFromCell(ProxyId id);
-
-    // An entry that changes cell in UpdateBatch (phase A lists them per thread).
-    struct Change
-    {
-        ProxyId id;
-        int32_t fromCell; // read here so that C's filter does not load every listed id's location
-        int32_t toCell;
-        int8_t toLevel;
-        bool sameLevel; // changes cell within its level (phases C, D) rather than level (phase B)
-    };
-    std::vector<std::vector<Change>> m_changes;  // per thread of phase A
-    std::vector<std::vector<Change>> m_overflow; // per thread of phase D: joins into full cells, done serially
 
     int m_depth = 0;
     float m_originX = 0.0f;

@@ -23,7 +23,7 @@ namespace quadphase
 /// - QueueMove (what the Box2D adapter calls) is O(1) and only records the move; the moves recorded since the
 ///   last FindPairs are applied by the next FindPairs, in parallel (see QueueMove).
 /// - MoveProxy is O(1): the fat-box test; when the box changed, the proxy is listed as stale. Its cell entry is
-///   brought up to date by the next FindPairs, for all stale proxies at once and in parallel (Pyramid::UpdateBatch);
+///   brought up to date by the next FindPairs, for all stale proxies at once, on one thread (Pyramid::UpdateBatch);
 ///   until then Query and RayCast skip its entry and test its current box from the stale list.
 /// - FindPairs is O(buffered proxies x their neighbourhoods): one query per buffered proxy, never a pass over
 ///   all proxies or all cells. Box2D calls it once per step and again after every time-of-impact event.
@@ -163,7 +163,7 @@ private:
     void Rebuild(float originX, float originY, float side, int depth);
     bool NeedsRetune() const;
     void QueryPairsOf(ProxyId q, std::vector<Pair>& out) const;
-    void UpdateStaleEntries(int threads);
+    void UpdateStaleEntries();
     int Threads() const;
     void FindPairsParallel(std::vector<Pair>& out, int threads);
 
@@ -176,7 +176,13 @@ private:
     // allocates.
     std::vector<QueuedMove> m_queued;
     size_t m_queuedCount = 0;
-    std::vector<std::vector<int32_t>> m_threadChanged; // ApplyQueued: per thread, queue indices that got a new fat box
+    // ApplyQueued, per thread: the ids its range adds to the stale list and to the move buffer, in queue order.
+    struct ThreadLists
+    {
+        std::vector<ProxyId> stale;
+        std::vector<ProxyId> buffered;
+    };
+    std::vector<ThreadLists> m_threadLists;
     mutable std::atomic<bool> m_hasQueued{false}; // m_queuedCount > 0, readable without the lock
     mutable std::mutex m_queueMutex; // serialises const calls that apply the queue
     std::vector<ProxyId> m_work; // proxies whose pairs the current FindPairs searches (the pool's move buffer)
