@@ -790,8 +790,9 @@ def report(args, info, jobs, res, mismatches, timing):
         if static_rows:
             md.append(f"The same traces at 2 threads under the static schedule (the default before it became "
                       f"{DEFAULT['schedule']}; same rounds): " + "; ".join(static_rows) + ". Static hands each thread "
-                      "one contiguous half of the move buffer; on rain the half that holds the forming pile costs "
-                      "more, and the other thread waits at the loop's end.\n")
+                      "one contiguous half of the move buffer; when the halves' queries cost unequally (on rain, "
+                      "timed per thread with static: one thread's share took 20–25% longer), the other thread "
+                      "waits at the loop's end, while guided's shrinking chunks even the halves out.\n")
         md.append(analysis_b(amdahl_rows))
 
     # ---------------- (c) ----------------
@@ -821,7 +822,7 @@ def report(args, info, jobs, res, mismatches, timing):
             csv_add("c-small", j, "quadtree", cfg(2, threshold=0), k0)
         md.append("")
     if sweeps:
-        md.append(f"Threshold sweep at 2 threads (static schedule, automatic depth). Each cell: ms/step (FindPairs "
+        md.append(f"Threshold sweep at 2 threads ({DEFAULT['schedule']} schedule, automatic depth). Each cell: ms/step (FindPairs "
                   "only), speed-up over 1 thread, parallel regions opened per step. Median over the rounds.\n")
         md.append("| threshold | " + " | ".join(
             f"{j['display']} ({j['warmup']} + {j['steps']} steps)" for j in sweeps) + " |")
@@ -1014,6 +1015,7 @@ def analysis_a(res, na, depths, shape, omp, gauge, gauge_find):
         d4 = depths[0]
         col4 = {x: fgrid[(2, x, d4)] for x in ("static", "dynamic", "guided")}
         margin4 = pct(col4["static"], min(col4.values()))
+        static_ok = per_sched["static"] <= min(per_sched.values()) + (gauge_find or 0.0)
         out.append(f"- **Schedule** (FindPairs table): the fastest 2-thread schedule per depth column is "
                    + ", ".join(f"{k} in {v}" for k, v in sorted(wins.items(), key=lambda kv: -kv[1]))
                    + f" of {len(spreads)} columns; median distance to the column's fastest: "
@@ -1024,21 +1026,26 @@ def analysis_a(res, na, depths, shape, omp, gauge, gauge_find):
                       f"{fmt(shape[d4]['cand'], 0)} candidates per query the queries' costs vary with their cells' "
                       "crowding, and a dynamic hand-out of blocks evens that out" if min(col4, key=col4.get) != "static"
                       and d4 in shape else "")
-                   + ". Elsewhere the blocks of 64 queries cost alike (the buffered proxies, in move-buffer order, "
-                   "are spread evenly over the box), so static scheduling is already balanced and dynamic/guided "
-                   "only add a shared-counter hand-off per block" + (
-                       f" (an empty 64-iteration loop: static {fmt(omp.get(('static', 64)), 1)} µs, dynamic "
-                       f"{fmt(omp.get(('dynamic', 64)), 1)} µs, guided {fmt(omp.get(('guided', 64)), 1)} µs)"
-                       if omp else "")
-                   + ". The paper saw the same (static ≥ dynamic except at depth 4 on the i7) for the same reason: "
-                   "near-equal iterations. "
+                   + (". Elsewhere the blocks of 64 queries cost alike (the buffered proxies, in move-buffer order, "
+                      "are spread evenly over the box), so static scheduling is already balanced and dynamic/guided "
+                      "only add a shared-counter hand-off per block"
+                      if static_ok else
+                      ". Static is outside the noise gauge of the fastest here: even on this evenly spread scene the "
+                      "two contiguous halves it hands out do not cost exactly alike, and guided's shrinking chunks "
+                      "even out the rest, for a hand-off that costs little more than static's")
+                   + (f" (an empty 64-iteration loop: static {fmt(omp.get(('static', 64)), 1)} µs, dynamic "
+                      f"{fmt(omp.get(('dynamic', 64)), 1)} µs, guided {fmt(omp.get(('guided', 64)), 1)} µs)"
+                      if omp else "")
+                   + (". The paper saw the same (static ≥ dynamic except at depth 4 on the i7) for the same reason: "
+                      "near-equal iterations. " if static_ok else
+                      ". Dynamic, which hands out one block at a time, pays its per-block hand-off and trails. ")
                    + (f"The default, {DEFAULT['schedule']}, is within the noise gauge of the fastest here"
                       if per_sched.get(DEFAULT["schedule"], float("inf")) <= min(per_sched.values())
                       + (gauge_find or 0.0) else
                       f"The default, {DEFAULT['schedule']}, is {fmt(per_sched.get(DEFAULT['schedule']), 1)}% from "
                       "the fastest here")
                    + "; it is the default rather than static because its shrinking chunks also even out traces "
-                   "whose load is not spread evenly: rain, where static leaves one thread waiting (see the static "
+                   "whose queries do not cost alike: rain, where static leaves one thread waiting (see the static "
                    "runs under the table of (b)).")
     sp = []
     for d in depths:
@@ -1080,7 +1087,7 @@ def analysis_b(rows):
                    f"perfect FindPairs speed-up would give only {fmt(cap2)}× at 2 threads. The measured "
                    f"serial fraction (Karp–Flatt, e = 2/S − 1) is {fmt(r['ew'], 2)} for the whole work and "
                    f"{fmt(r['ef'], 2)} for FindPairs alone (its serial parts — move-buffer hand-off, join"
-                   + (", the serial phase of the re-placement" if r.get("r1", 0) > 0 else "")
+                   + (", the re-placement of cell changes (one thread; see docs/design.md)" if r.get("r1", 0) > 0 else "")
                    + " — the memory stalls both cores share, and the shared machine's noise).")
     out.append("")
     return "\n".join(out)
@@ -1295,8 +1302,10 @@ def analysis_e(rows):
                + ("This overstates the serial part of the measured core: the adapter's MoveProxy only appends "
                   "the move to a queue, and the queue is applied (fat-box rule, in-cell rewrite) on all threads every "
                   "8192 moves and by FindPairs, so the serial rest of m is the append, the per-call overhead and the "
-                  "replay loop (null engine, (d)); the cell changes run batched and in parallel inside FindPairs "
-                  "(the re-placement column of (b)). The whole-work Karp–Flatt fraction of (b) is the better gauge. "
+                  "replay loop (null engine, (d)); the cell changes run batched inside FindPairs, on one thread "
+                  "(a parallel version was slower on this machine: docs/design.md, \"Grid maintenance\"), and "
+                  "become a serial part of s at higher thread counts. The whole-work Karp–Flatt fraction of (b) is "
+                  "the better gauge. "
                   "Shrinking it further needs the caller to hand over a step's moves in bulk (Box2D's "
                   "b2Body::SynchronizeFixtures loop), not a change inside the broadphase."
                   if deferred else

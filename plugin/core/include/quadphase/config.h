@@ -42,8 +42,8 @@ struct Config
 
     /// OpenMP schedule of the loop over blocks of buffered proxies, and its chunk size in blocks (0: OpenMP's
     /// default for that schedule). The pairs and their order do not depend on them. Guided by default: it ties
-    /// with static when the queries cost alike, and evens out scenes whose load is uneven (a pile forming under
-    /// falling bodies), where static's contiguous halves leave a thread waiting; see docs/design.md.
+    /// with static when the queries cost alike, and evens out scenes where they do not (rain), where static's
+    /// contiguous halves leave a thread waiting; see docs/design.md.
     Schedule schedule = Schedule::Guided;
     int chunk = 0;
 
