@@ -118,14 +118,15 @@ bool Pyramid::Update(ProxyId id, const Box& box)
     int level;
     int32_t cell;
     PlaceCell(box, level, cell);
+    int32_t outsideDelta = 0;
+    if (RewriteIfInCell(id, box, cell, outsideDelta))
+    {
+        m_outsideCount += outsideDelta;
+        return false;
+    }
     Location& loc = m_location[size_t(id)];
     const bool outside = !Inside(box);
-    const bool changesCell = cell != loc.cell;
-    if (!changesCell)
-    {
-        m_store.Data(cell)[loc.slot].box = box;
-    }
-    else if (level == loc.level)
+    if (level == loc.level)
     {
         // Within its level (nearly every change: a moving body crosses into a neighbouring cell), the level's list
         // keeps the id where it is.
@@ -140,7 +141,7 @@ bool Pyramid::Update(ProxyId id, const Box& box)
     }
     m_outsideCount += int32_t(outside) - int32_t(loc.outside);
     loc.outside = outside;
-    return changesCell;
+    return true;
 }
 
 int64_t Pyramid::UpdateBatch(const std::vector<ProxyId>& ids, const Box* boxes)

@@ -56,16 +56,7 @@ public:
         int level;
         int32_t cell;
         PlaceCell(box, level, cell);
-        Location& loc = m_location[size_t(id)];
-        if (cell != loc.cell)
-        {
-            return false;
-        }
-        m_store.Data(cell)[loc.slot].box = box;
-        const bool outside = !Inside(box);
-        outsideDelta += int32_t(outside) - int32_t(loc.outside);
-        loc.outside = outside;
-        return true;
+        return RewriteIfInCell(id, box, cell, outsideDelta);
     }
     void AddOutsideDelta(int32_t delta) { m_outsideCount += delta; }
 
@@ -141,6 +132,20 @@ private:
                b.maxY <= m_originY + m_side;
     }
     void PlaceCell(const Box& box, int& level, int32_t& cell) const;
+    // RewriteInPlace for a box the placement rule puts in `cell` (shared with Update, which places it once).
+    bool RewriteIfInCell(ProxyId id, const Box& box, int32_t cell, int32_t& outsideDelta)
+    {
+        Location& loc = m_location[size_t(id)];
+        if (cell != loc.cell)
+        {
+            return false;
+        }
+        m_store.Data(cell)[loc.slot].box = box;
+        const bool outside = !Inside(box);
+        outsideDelta += int32_t(outside) - int32_t(loc.outside);
+        loc.outside = outside;
+        return true;
+    }
     void Store(ProxyId id, const Box& box, int level, int32_t cell);
     void RemoveFromCell(ProxyId id);
 
