@@ -50,10 +50,8 @@ public:
     /// Adds a live proxy to the move buffer unless it is already there.
     void Buffer(ProxyId id)
     {
-        uint8_t& s = m_state[size_t(id)];
-        if ((s & kBuffered) == 0)
+        if (MarkBuffered(id))
         {
-            s |= kBuffered;
             m_moveBuffer.push_back(id);
         }
     }
@@ -64,10 +62,7 @@ public:
     /// two the invariant "flagged exactly when in the buffer" does not hold.
     bool MarkBuffered(ProxyId id)
     {
-        uint8_t& s = m_state[size_t(id)];
-        const bool fresh = (s & kBuffered) == 0;
-        s |= kBuffered;
-        return fresh;
+        return TestAndSet(id, kBuffered);
     }
     void AppendBuffered(const std::vector<ProxyId>& ids)
     {
@@ -92,10 +87,7 @@ public:
     /// stale flag survives Free, so an id is never listed twice; ClearStale ends it.
     bool MarkStale(ProxyId id)
     {
-        uint8_t& s = m_state[size_t(id)];
-        const bool fresh = (s & kStale) == 0;
-        s |= kStale;
-        return fresh;
+        return TestAndSet(id, kStale);
     }
     void ClearStale(ProxyId id) { m_state[size_t(id)] &= uint8_t(~kStale); }
     bool IsStale(ProxyId id) const { return (m_state[size_t(id)] & kStale) != 0; }
@@ -104,10 +96,7 @@ public:
     /// it already had one: the caller must apply the queue first, so that a proxy is queued at most once.
     bool MarkPending(ProxyId id)
     {
-        uint8_t& s = m_state[size_t(id)];
-        const bool fresh = (s & kPending) == 0;
-        s |= kPending;
-        return fresh;
+        return TestAndSet(id, kPending);
     }
     void ClearPending(ProxyId id) { m_state[size_t(id)] &= uint8_t(~kPending); }
     bool IsPending(ProxyId id) const { return (m_state[size_t(id)] & kPending) != 0; }
@@ -155,6 +144,15 @@ private:
     static constexpr uint8_t kInWork = 4;
     static constexpr uint8_t kStale = 8;
     static constexpr uint8_t kPending = 16;
+
+    // Sets `flag` on `id`; true when it was not set before.
+    bool TestAndSet(ProxyId id, uint8_t flag)
+    {
+        uint8_t& s = m_state[size_t(id)];
+        const bool fresh = (s & flag) == 0;
+        s |= flag;
+        return fresh;
+    }
 
     __attribute__((noinline, cold)) void ReportUnknown(ProxyId id, const char* call) const;
 
