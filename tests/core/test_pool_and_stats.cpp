@@ -248,3 +248,47 @@ TEST_CASE("TestOverlap compares the stored fat boxes", "[stats]")
     }
     CHECK(overlapping > int(h.Live().size()));
 }
+
+TEST_CASE("SetTiming books queued moves as maintenance time only while it is on", "[stats]")
+{
+    QuadtreeBroadPhase qt;
+    std::vector<ProxyId> ids;
+    for (int i = 0; i < 64; ++i)
+    {
+        const float x = float(i);
+        ids.push_back(qt.CreateProxy(Box{x, 0.0f, x + 0.5f, 0.5f}, nullptr));
+    }
+    std::vector<Pair> pairs;
+    qt.FindPairs(pairs);
+    // Moves far enough to get new fat boxes; each proxy once per round, so every call can take the inline path.
+    auto queueAll = [&](float dy) {
+        for (size_t i = 0; i < ids.size(); ++i)
+        {
+            const float x = float(i);
+            qt.QueueMove(ids[i], Box{x, dy, x + 0.5f, dy + 0.5f}, Vec2{0.0f, dy});
+        }
+    };
+    qt.ResetCounters();
+    queueAll(5.0f);
+    REQUIRE(qt.QueuedMoveCount() == int32_t(ids.size()));
+    // Untimed, queuing books nothing: the time is booked when the queue is applied.
+    REQUIRE(qt.GetStats().updateSeconds == 0.0);
+    qt.FindPairs(pairs);
+
+    qt.SetTiming(true);
+    qt.ResetCounters();
+    queueAll(10.0f);
+    REQUIRE(qt.QueuedMoveCount() == int32_t(ids.size()));
+    REQUIRE(qt.GetStats().updateSeconds > 0.0); // every timed call is timed, so the out-of-line path ran
+    qt.FindPairs(pairs);
+    REQUIRE(qt.Validate().empty());
+    for (size_t i = 0; i < ids.size(); ++i)
+    {
+        REQUIRE(Contains(qt.GetFatBox(ids[i]), Box{float(i), 10.0f, float(i) + 0.5f, 10.5f}));
+    }
+
+    qt.SetTiming(false);
+    qt.ResetCounters();
+    queueAll(15.0f);
+    REQUIRE(qt.GetStats().updateSeconds == 0.0);
+}

@@ -153,6 +153,7 @@ void QuadtreeBroadPhase::QueueMoveSlow(ProxyId id, const Box& tight, Vec2 displa
     {
         // Grows by doubling up to kQueueChunk, so a small world holds a small queue.
         m_queued.resize(std::min(kQueueChunk, std::max<size_t>(64, 2 * m_queued.size())));
+        UpdateFastRoom();
     }
     m_queued[m_queuedCount++] = QueuedMove{tight, displacement, id};
     m_hasQueued.store(true, std::memory_order_release);

@@ -58,8 +58,7 @@ public:
         // Inline fast path (Box2D calls this once per moving fixture, on one thread); anything unusual (unknown
         // id, bad box, a second move of the proxy, timing on) takes the out-of-line path.
         // int operands: & on bools is what is meant (no short-circuit branches), and clang warns otherwise.
-        if (__builtin_expect(int(m_pool.IsLiveAndNotPending(id)) & int(IsSane(tight)) & int(!m_timing) &
-                                 int(m_queuedCount < m_queued.size()),
+        if (__builtin_expect(int(m_pool.IsLiveAndNotPending(id)) & int(IsSane(tight)) & int(m_queuedCount < m_fastRoom),
                              1))
         {
             m_pool.MarkPending(id);
@@ -110,7 +109,11 @@ public:
 
     /// When true, MoveProxy, CreateProxy and DestroyProxy are timed into Stats::updateSeconds (two clock reads
     /// per call). FindPairs is always timed.
-    void SetTiming(bool enabled) { m_timing = enabled; }
+    void SetTiming(bool enabled)
+    {
+        m_timing = enabled;
+        UpdateFastRoom();
+    }
 
     /// Read-only access for drawing and tests. The fat boxes are those of the last applied move: queued moves
     /// (QueueMove) are not in them until ApplyQueuedMoves, FindPairs or a reading call applies them.
@@ -176,6 +179,10 @@ private:
     // allocates.
     std::vector<QueuedMove> m_queued;
     size_t m_queuedCount = 0;
+    // Slots QueueMove's inline path may fill: the queue's capacity, or 0 while timing is on (timed calls take the
+    // out-of-line path). One comparison on the hot path instead of three.
+    size_t m_fastRoom = 0;
+    void UpdateFastRoom() { m_fastRoom = m_timing ? 0 : m_queued.size(); }
     // ApplyQueued, per thread: the ids its range adds to the stale list and to the move buffer, in queue order.
     struct ThreadLists
     {
