@@ -58,8 +58,8 @@ public:
         // Inline fast path (Box2D calls this once per moving fixture, on one thread); anything unusual (unknown
         // id, bad box, a second move of the proxy, timing on) takes the out-of-line path.
         // int operands: & on bools is what is meant (no short-circuit branches), and clang warns otherwise.
-        if (__builtin_expect(int(m_pool.IsLiveAndNotPending(id)) & int(IsSane(tight)) & int(m_queuedCount < m_fastRoom),
-                             1))
+        if (__builtin_expect(
+                int(m_pool.IsLiveAndNotPending(id)) & int(IsSane(tight)) & int(m_queuedCount < m_fastRoom), 1))
         {
             m_pool.MarkPending(id);
             // Field by field into the slot: a temporary QueuedMove copied in as a whole was a store-forwarding
