@@ -118,6 +118,11 @@ bool Pyramid::Update(ProxyId id, const Box& box)
     int level;
     int32_t cell;
     PlaceCell(box, level, cell);
+    return UpdatePlaced(id, box, level, cell);
+}
+
+bool Pyramid::UpdatePlaced(ProxyId id, const Box& box, int level, int32_t cell)
+{
     int32_t outsideDelta = 0;
     if (RewriteIfInCell(id, box, cell, outsideDelta))
     {
@@ -154,7 +159,9 @@ int64_t Pyramid::UpdateBatch(const std::vector<ProxyId>& ids, const Box* boxes)
     // between may alter: they are hints, and every change below reads the state afresh. The loop starts
     // kLocation ids early so that every id goes through every stage.
     constexpr int64_t kLocation = 12, kCell = 8, kEntries = 4, kMoved = 2, kRing = 16;
-    int32_t newCell[kRing]; // the new cells computed at distance kCell, kept for distance kEntries
+    // The placement of each id, computed at distance kCell and used at kEntries and by the update itself.
+    int32_t newCell[kRing];
+    int newLevel[kRing];
     const int64_t n = int64_t(ids.size());
     int64_t changed = 0;
     for (int64_t i = -kLocation; i < n; ++i)
@@ -168,9 +175,8 @@ int64_t Pyramid::UpdateBatch(const std::vector<ProxyId>& ids, const Box* boxes)
         if (i + kCell >= 0 && i + kCell < n)
         {
             const ProxyId id = ids[size_t(i + kCell)];
-            int level;
             int32_t& cell = newCell[(i + kCell) % kRing];
-            PlaceCell(boxes[id], level, cell);
+            PlaceCell(boxes[id], newLevel[(i + kCell) % kRing], cell);
             m_store.PrefetchCell(cell);
             m_store.PrefetchCell(m_location[size_t(id)].cell);
         }
@@ -196,7 +202,7 @@ int64_t Pyramid::UpdateBatch(const std::vector<ProxyId>& ids, const Box* boxes)
             continue;
         }
         const ProxyId id = ids[size_t(i)];
-        changed += Update(id, boxes[id]) ? 1 : 0;
+        changed += UpdatePlaced(id, boxes[id], newLevel[i % kRing], newCell[i % kRing]) ? 1 : 0;
     }
     if (m_store.Wasteful(m_stored))
     {

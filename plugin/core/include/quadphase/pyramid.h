@@ -148,6 +148,8 @@ private:
         return true;
     }
     void Store(ProxyId id, const Box& box, int level, int32_t cell);
+    // Update for a box the placement rule puts in (level, cell) (UpdateBatch places it ahead, for its prefetches).
+    bool UpdatePlaced(ProxyId id, const Box& box, int level, int32_t cell);
     void RemoveFromCell(ProxyId id);
 
     int m_depth = 0;
