@@ -31,8 +31,8 @@ struct Entry
 /// - every block of a cell lies inside the array and no two blocks overlap, free blocks included;
 /// - a cell's size is at most its block's capacity; a cell without a block has size 0.
 ///
-/// Threading: Push and Compact allocate and are serial. PushNoGrow (when HasRoom), SwapRemove and writes through
-/// Data() touch only their cell, so threads may run them on distinct cells at the same time.
+/// Threading: Push and Compact allocate and are serial. SwapRemove and writes through Data() touch only their
+/// cell, so threads may run them on distinct cells at the same time.
 class CellStore
 {
 public:
@@ -64,14 +64,6 @@ public:
     /// Appends an entry to a cell, moving the cell to a larger block when full. Returns its slot.
     /// Invalidates pointers returned by Data() (the array may grow).
     int32_t Push(int32_t cell, const Entry& entry);
-
-    /// Appends an entry to a cell that HasRoom. Returns its slot.
-    int32_t PushNoGrow(int32_t cell, const Entry& entry)
-    {
-        Cell& c = m_cells[size_t(cell)];
-        m_entries[c.begin + c.size] = entry;
-        return int32_t(c.size++);
-    }
 
     /// Removes the entry at `slot` by moving the cell's last entry into it. Returns the id of the moved entry, or
     /// -1 when the removed entry was the last one. The block is kept (Compact frees blocks of empty cells).
@@ -118,6 +110,13 @@ private:
     };
     static_assert(sizeof(Cell) == 8, "a cell is 8 bytes");
 
+    // Appends an entry to a cell that HasRoom; returns its slot.
+    int32_t PushNoGrow(int32_t cell, const Entry& entry)
+    {
+        Cell& c = m_cells[size_t(cell)];
+        m_entries[c.begin + c.size] = entry;
+        return int32_t(c.size++);
+    }
     uint32_t Allocate(uint32_t sizeClass);
     void Free(uint32_t begin, uint32_t sizeClass);
     static uint32_t ClassFor(uint32_t count);
