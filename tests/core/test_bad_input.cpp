@@ -1,6 +1,7 @@
-// Bad input: unknown or destroyed ids, non-finite and inverted boxes. Each is reported once through the error
+// Bad input: unknown or destroyed ids, non-finite and inverted boxes. Each is reported through the error
 // handler with the right code, and the other proxies keep exactly their pairs. A counting handler is
-// installed for every test here (the default one aborts in builds without NDEBUG) and restored afterwards.
+// installed for every test here (the default one prints to stderr) and restored afterwards. A bad box is reported
+// once per proxy (its first), an unknown id at every call.
 #include <climits>
 #include <cmath>
 #include <cstring>
@@ -178,8 +179,13 @@ private:
             m_tight.resize(size_t(a) + 1);
         }
         m_tight[size_t(a)] = tight;
+        if (size_t(a) >= m_badReported.size())
+        {
+            m_badReported.resize(size_t(a) + 1, false);
+        }
+        m_badReported[size_t(a)] = false; // a new proxy: its first bad box is reported again
         m_ids.push_back(a);
-        Expect(tight);
+        Expect(a, tight);
         m_badProxiesSeen += IsSane(a) ? 0 : 1;
         QP_REQUIRE_MSG(SameBox(m_qt.GetFatBox(a), m_bf.GetFatBox(a)),
                        Where() << "fat boxes of " << a << " differ");
@@ -194,7 +200,7 @@ private:
         QP_REQUIRE_MSG(SameBox(m_qt.GetFatBox(id), m_bf.GetFatBox(id)),
                        Where() << "fat boxes of " << id << " differ after MoveProxy to " << Str(tight));
         m_tight[size_t(id)] = tight;
-        Expect(tight);
+        Expect(id, tight);
         m_badProxiesSeen += IsSane(id) ? 0 : 1;
     }
 
@@ -205,12 +211,14 @@ private:
         m_ids.erase(std::find(m_ids.begin(), m_ids.end(), id));
     }
 
-    void Expect(const Box& tight)
+    // A bad box is reported once per proxy: the first one it gets.
+    void Expect(ProxyId id, const Box& tight)
     {
         const int code = ExpectedCode(tight);
         if (code >= 0)
         {
-            m_expected[code] += 1;
+            m_expected[code] += m_badReported[size_t(id)] ? 0 : 1;
+            m_badReported[size_t(id)] = true;
             m_badCalls += 1;
         }
         m_lastBox = tight;
@@ -279,6 +287,7 @@ private:
     BruteForceBroadPhase m_bf;
     std::vector<ProxyId> m_ids;
     std::vector<Box> m_tight;
+    std::vector<bool> m_badReported; // per id: its bad box was reported
     int m_expected[4] = {0, 0, 0, 0};
     int m_badCalls = 0;
     int m_badProxiesSeen = 0;
@@ -373,7 +382,6 @@ TEST_CASE("Each kind of bad box reports its code exactly once", "[errors]")
 {
     ErrorCounter errors;
     QuadtreeBroadPhase qt;
-    const ProxyId sane = qt.CreateProxy(Box{0.0f, 0.0f, 1.0f, 1.0f}, nullptr);
     struct Case
     {
         Box box;
@@ -405,7 +413,9 @@ TEST_CASE("Each kind of bad box reports its code exactly once", "[errors]")
         REQUIRE(qt.Validate() == "");
         qt.DestroyProxy(id);
 
-        // MoveProxy with the bad box, whether or not the stored fat box would be replaced
+        // MoveProxy with the bad box, whether or not the stored fat box would be replaced (a proxy of its own:
+        // bad boxes are reported once per proxy)
+        const ProxyId sane = qt.CreateProxy(Box{0.0f, 0.0f, 1.0f, 1.0f}, nullptr);
         errors.Reset();
         const Box before = qt.GetFatBox(sane);
         const bool moved = qt.MoveProxy(sane, k.box, k.displacement);
@@ -418,12 +428,52 @@ TEST_CASE("Each kind of bad box reports its code exactly once", "[errors]")
         qt.MoveProxy(sane, Box{0.0f, 0.0f, 1.0f, 1.0f}, Vec2{0.0f, 0.0f});
         REQUIRE(errors.Total() == 0);
         REQUIRE(qt.Validate() == "");
+        qt.DestroyProxy(sane);
         (void)before;
         (void)moved;
     }
     std::vector<Pair> pairs;
     qt.FindPairs(pairs);
     REQUIRE(pairs.empty());
+}
+
+TEST_CASE("A runaway proxy is reported once, not once per call; a new proxy on its id is reported again",
+          "[errors]")
+{
+    ErrorCounter errors;
+    QuadtreeBroadPhase qt;
+    const ProxyId other = qt.CreateProxy(Box{5.0f, 5.0f, 6.0f, 6.0f}, nullptr);
+    const ProxyId runaway = qt.CreateProxy(Box{0.0f, 0.0f, 1.0f, 1.0f}, nullptr);
+    std::vector<Pair> pairs;
+    for (int step = 0; step < 50; ++step)
+    {
+        // what a body with a NaN position gives Box2D's MoveProxy every step, through both entry points
+        const Box bad{kNaN, kNaN, kNaN, kNaN};
+        if (step % 2 == 0)
+        {
+            qt.QueueMove(runaway, bad, Vec2{kNaN, kNaN});
+        }
+        else
+        {
+            qt.MoveProxy(runaway, bad, Vec2{kNaN, kNaN});
+        }
+        qt.FindPairs(pairs);
+    }
+    REQUIRE(errors.Count(ErrorCode::NonFiniteBox) == 1);
+    REQUIRE(errors.Total() == 1);
+    REQUIRE(errors.LastMessage().find("proxy " + std::to_string(runaway)) != std::string::npos);
+    // an inverted box for the same proxy is not reported either: one report per proxy
+    qt.MoveProxy(runaway, Box{1.0f, 1.0f, 0.0f, 0.0f}, Vec2{0.0f, 0.0f});
+    REQUIRE(errors.Total() == 1);
+    // another proxy's first bad box is reported
+    qt.MoveProxy(other, Box{kInf, 5.0f, 6.0f, 6.0f}, Vec2{0.0f, 0.0f});
+    REQUIRE(errors.Count(ErrorCode::NonFiniteBox) == 2);
+    // the id reused by a new proxy: reported again
+    qt.DestroyProxy(runaway);
+    const ProxyId reused = qt.CreateProxy(Box{kNaN, 0.0f, 1.0f, 1.0f}, nullptr);
+    REQUIRE(reused == runaway);
+    REQUIRE(errors.Count(ErrorCode::NonFiniteBox) == 3);
+    REQUIRE(qt.Validate() == "");
 }
 
 TEST_CASE("SetErrorHandler returns the previous handler and ErrorCodeName names every code", "[errors]")

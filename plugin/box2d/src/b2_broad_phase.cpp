@@ -106,6 +106,30 @@ void b2BroadPhase::TouchProxy(int32 proxyId)
     }
 }
 
+const b2AABB& b2BroadPhase::GetFatAABB(int32 proxyId) const
+{
+    const quadphase::Box& box = m_core.GetFatBox(proxyId); // reports an unknown id and gives an empty box
+    if (proxyId < 0)
+    {
+        static const b2AABB empty = {{0.0f, 0.0f}, {0.0f, 0.0f}};
+        return empty;
+    }
+    std::lock_guard<std::mutex> lock(m_fatCopiesMutex);
+    const size_t chunk = size_t(proxyId / kFatChunk);
+    if (chunk >= m_fatCopies.size())
+    {
+        m_fatCopies.resize(chunk + 1);
+    }
+    if (!m_fatCopies[chunk])
+    {
+        m_fatCopies[chunk].reset(new b2AABB[kFatChunk]);
+    }
+    b2AABB& copy = m_fatCopies[chunk][proxyId % kFatChunk];
+    copy.lowerBound.Set(box.minX, box.minY);
+    copy.upperBound.Set(box.maxX, box.maxY);
+    return copy;
+}
+
 void b2BroadPhase::CheckPairs()
 {
     m_shadow->OnUpdatePairs(m_pairs);

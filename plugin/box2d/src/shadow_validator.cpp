@@ -52,6 +52,11 @@ b2AABB ToAABB(const Box& b)
 ShadowValidator::ShadowValidator(const QuadtreeBroadPhase& core)
     : m_core(core)
 {
+    // Moves queued before validation starts must be in the fat boxes the shadow tree is seeded with: the shadow
+    // never sees those MoveProxy calls, and the quadtree would apply them only at the next UpdatePairs (a false
+    // "extra pair" then). Applied now, they put their proxies in the move buffer, so the check below skips that
+    // first comparison, whose buffers differ.
+    core.ApplyQueuedMoves();
     const ProxyPool& pool = core.GetPool();
     const float r = b2_aabbExtension;
     for (ProxyId id = 0; id < pool.IdBound(); ++id)

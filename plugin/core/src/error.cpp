@@ -1,22 +1,37 @@
 #include "quadphase/error.h"
 
-#include <cassert>
 #include <cstdarg>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 
 namespace quadphase
 {
 namespace
 {
 
+// -1: not decided yet (QUADPHASE_STRICT is read at the first report), 0: off, 1: on.
+int g_strict = -1;
+
+bool StrictFromEnvironment()
+{
+    const char* value = std::getenv("QUADPHASE_STRICT");
+    return value != nullptr && value[0] != '\0' && std::strcmp(value, "0") != 0;
+}
+
 void DefaultHandler(ErrorCode code, const char* message, void*)
 {
     std::fprintf(stderr, "quadphase: %s: %s\n", ErrorCodeName(code), message);
-#ifndef NDEBUG
-    // Debug builds treat bad input like Box2D's b2Assert does.
-    std::abort();
-#endif
+    if (g_strict < 0)
+    {
+        g_strict = StrictFromEnvironment() ? 1 : 0;
+    }
+    if (g_strict == 1)
+    {
+        // Opt-in: bad input treated like a failed assertion. Not the default in any build type: a stock Box2D
+        // debug build survives a runaway body, and so must a game linked with quadphase.
+        std::abort();
+    }
 }
 
 ErrorHandler g_handler = &DefaultHandler;
@@ -29,6 +44,13 @@ ErrorHandler SetErrorHandler(ErrorHandler handler, void* context)
     ErrorHandler previous = g_handler;
     g_handler = handler != nullptr ? handler : &DefaultHandler;
     g_context = handler != nullptr ? context : nullptr;
+    return previous;
+}
+
+bool SetStrictErrors(bool strict)
+{
+    const bool previous = g_strict < 0 ? StrictFromEnvironment() : g_strict == 1;
+    g_strict = strict ? 1 : 0;
     return previous;
 }
 

@@ -87,6 +87,17 @@ void ProxyPool::ReturnWork(std::vector<ProxyId>& work)
     work.clear(); // whatever was in the (unused) move buffer storage
 }
 
+void ProxyPool::UnlendWork(std::vector<ProxyId>& work)
+{
+    for (ProxyId id : work)
+    {
+        m_state[size_t(id)] = uint8_t((m_state[size_t(id)] & ~kInWork) | kBuffered);
+    }
+    // The move buffer holds the empty storage LendBuffer swapped in (nothing can be buffered while work is lent).
+    work.swap(m_moveBuffer);
+    work.clear();
+}
+
 void ProxyPool::ReleaseWork(const std::vector<ProxyId>& work)
 {
     for (ProxyId id : work)

@@ -1,5 +1,6 @@
 #include "quadphase/pyramid.h"
 
+#include <algorithm>
 #include <string>
 
 namespace quadphase
@@ -33,6 +34,7 @@ void Pyramid::Reset(float originX, float originY, float side, int depth)
         loc = Location{};
     }
     m_outsideCount = 0;
+    ++m_version;
 }
 
 void Pyramid::PlaceCell(const Box& box, int& level, int32_t& cell) const
@@ -135,9 +137,11 @@ bool Pyramid::UpdatePlaced(ProxyId id, const Box& box, int level, int32_t cell)
     {
         // Within its level (nearly every change: a moving body crosses into a neighbouring cell), the level's list
         // keeps the id where it is.
+        // Pushed first: when the push throws std::bad_alloc the entry is still in its old cell.
+        const int32_t slot = m_store.Push(cell, Entry{box, id});
         RemoveFromCell(id);
         loc.cell = cell;
-        loc.slot = m_store.Push(cell, Entry{box, id});
+        loc.slot = slot;
     }
     else
     {
@@ -209,6 +213,18 @@ int64_t Pyramid::UpdateBatch(const std::vector<ProxyId>& ids, const Box* boxes)
         m_store.Compact(); // amortised: the array doubled since it was last compact
     }
     return changed;
+}
+
+int64_t Pyramid::VisitCost(int level, const Box& query) const
+{
+    const int64_t listSize = int64_t(m_levelProxies[size_t(level)].size());
+    const int shift = m_depth - level;
+    const int64_t x0 = std::max<int64_t>(0, (CoordX(query.minX) >> shift) - 1);
+    const int64_t y0 = std::max<int64_t>(0, (CoordY(query.minY) >> shift) - 1);
+    const int64_t x1 = CoordX(query.maxX) >> shift;
+    const int64_t y1 = CoordY(query.maxY) >> shift;
+    const int64_t area = x1 < x0 || y1 < y0 ? 0 : (x1 - x0 + 1) * (y1 - y0 + 1);
+    return std::min(area, listSize);
 }
 
 void Pyramid::CountOccupancy(int64_t& occupied, int64_t& largest) const

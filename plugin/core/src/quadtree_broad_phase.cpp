@@ -1,8 +1,12 @@
 #include "quadphase/quadtree_broad_phase.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <exception>
+#include <limits>
+#include <new>
 
 #include "quadphase/error.h"
 
@@ -36,13 +40,58 @@ __attribute__((noinline)) void ReportBadBox(const Box& b, const char* call, Prox
     }
 }
 
-inline void CheckBox(const Box& b, const char* call, ProxyId id)
+// Grows a vector's capacity to at least n, geometrically (a plain reserve(n) reallocates to exactly n each time).
+template <typename T>
+void ReserveAtLeast(std::vector<T>& v, size_t n)
 {
-    if (!IsSane(b))
+    if (v.capacity() < n)
     {
-        ReportBadBox(b, call, id);
+        v.reserve(std::max(n, 2 * v.capacity()));
     }
 }
+
+// A vector whose first N elements live on the stack: Query and RayCast collect their candidates before calling
+// back (re-entrancy), and a heap allocation per small query would cost as much as the query itself.
+template <typename T, size_t N>
+class SmallBuffer
+{
+public:
+    size_t size() const { return m_size; }
+    void clear()
+    {
+        m_size = 0;
+        m_heap.clear();
+    }
+    void push_back(const T& value)
+    {
+        if (m_size < N)
+        {
+            m_local[m_size] = value;
+        }
+        else
+        {
+            m_heap.push_back(value);
+        }
+        ++m_size;
+    }
+    const T& operator[](size_t i) const { return i < N ? m_local[i] : m_heap[i - N]; }
+    bool contains(const T& value) const
+    {
+        for (size_t i = 0; i < m_size; ++i)
+        {
+            if ((*this)[i] == value)
+            {
+                return true;
+            }
+        }
+        return false;
+    }
+
+private:
+    T m_local[N];
+    size_t m_size = 0;
+    std::vector<T> m_heap;
+};
 
 const Box kEmptyBox{0.0f, 0.0f, 0.0f, 0.0f};
 
@@ -62,6 +111,15 @@ float Percentile(std::vector<float>& values, double p)
 
 } // namespace
 
+void QuadtreeBroadPhase::CheckBox(const Box& b, const char* call, ProxyId id)
+{
+    // Once per proxy: a runaway body gets a bad box at every step, and one line says all there is to say.
+    if (!IsSane(b) && m_pool.MarkBadReported(id))
+    {
+        ReportBadBox(b, call, id);
+    }
+}
+
 QuadtreeBroadPhase::QuadtreeBroadPhase(const FatPolicy& policy, const Config& config)
     : m_policy(policy)
     , m_config(config)
@@ -74,6 +132,7 @@ ProxyId QuadtreeBroadPhase::CreateProxy(const Box& tight, void* userData)
     ApplyQueuedIfAny(); // a re-tune below reads every fat box
     const Clock::time_point start = m_timing ? Clock::now() : Clock::time_point{};
     const Box fat = FattenNew(m_policy, tight);
+    ++m_mutations;
     const ProxyId id = m_pool.Allocate(fat, userData);
     CheckBox(tight, "CreateProxy", id);
     m_pyramid.Insert(id, fat);
@@ -99,6 +158,7 @@ void QuadtreeBroadPhase::DestroyProxy(ProxyId id)
     }
     ApplyQueuedIfAny(); // the id may be reused by the next CreateProxy: no queued move may outlive its proxy
     const Clock::time_point start = m_timing ? Clock::now() : Clock::time_point{};
+    ++m_mutations;
     m_pyramid.Remove(id);
     m_pool.Free(id);
     if (m_timing)
@@ -123,9 +183,11 @@ bool QuadtreeBroadPhase::MoveProxy(ProxyId id, const Box& tight, Vec2 displaceme
     {
         return false;
     }
+    ++m_mutations;
     if (m_pool.MarkStale(id))
     {
         m_stale.push_back(id);
+        NoteStale();
     }
     m_pool.Buffer(id);
     if (m_timing)
@@ -178,6 +240,23 @@ void QuadtreeBroadPhase::ApplyQueuedLocked() const
     }
 }
 
+void QuadtreeBroadPhase::ApplyForReadLocked() const
+{
+    std::lock_guard<std::mutex> lock(m_queueMutex);
+    // Logically const, as ApplyQueuedLocked: the entries only catch up with the calls already made. Safe beside
+    // concurrent const calls: they cannot be reading the pyramid now, since every one of them saw the same flags
+    // (only non-const calls set them) and waits on this lock before reading.
+    QuadtreeBroadPhase* self = const_cast<QuadtreeBroadPhase*>(this);
+    if (m_hasQueued.load(std::memory_order_relaxed))
+    {
+        self->ApplyQueued(1);
+    }
+    if (m_hasStale.load(std::memory_order_relaxed))
+    {
+        self->UpdateStaleEntries();
+    }
+}
+
 void QuadtreeBroadPhase::ApplyQueued(int threads)
 {
     const int64_t count = int64_t(m_queuedCount);
@@ -191,10 +270,22 @@ void QuadtreeBroadPhase::ApplyQueued(int threads)
     // ids it adds to the stale list and to the move buffer; the lists joined in thread order are in queue order
     // whatever the thread count.
     const int team = threads > 1 && count >= kApplyPerQuery * int64_t(m_config.parallelThreshold) ? threads : 1;
+    // Everything this call allocates is reserved here, before the parallel region and before any change: an
+    // exception thrown inside an OpenMP region ends the program, and out here std::bad_alloc leaves the queue as
+    // it was. Range c of the queue (of `team`) is applied into list c whatever the number of threads OpenMP gives.
     if (int(m_threadLists.size()) < team)
     {
         m_threadLists.resize(size_t(team));
     }
+    for (int c = 0; c < team; ++c)
+    {
+        const size_t range = size_t(count * (c + 1) / team - count * c / team);
+        ReserveAtLeast(m_threadLists[size_t(c)].stale, range);
+        ReserveAtLeast(m_threadLists[size_t(c)].buffered, range);
+    }
+    ReserveAtLeast(m_stale, m_stale.size() + size_t(count));
+    m_pool.ReserveBuffer(size_t(count));
+    ++m_mutations;
     const QueuedMove* queued = m_queued.data();
     Box* fat = m_pool.MutableFatData();
     const FatPolicy policy = m_policy;
@@ -213,7 +304,7 @@ void QuadtreeBroadPhase::ApplyQueued(int threads)
     auto applyRange = [queued, fat, policy, &pool, &pyramid](int64_t begin, int64_t end, ThreadLists& lists) {
         std::vector<ProxyId>& buffered = lists.buffered;
         std::vector<ProxyId>& stale = lists.stale;
-        buffered.resize(size_t(end - begin));
+        buffered.resize(size_t(end - begin)); // within the capacity reserved above: no allocation here
         int32_t* out = buffered.data();
         size_t n = 0;
         for (int64_t i = begin; i < end; ++i)
@@ -246,11 +337,13 @@ void QuadtreeBroadPhase::ApplyQueued(int threads)
     {
 #pragma omp parallel num_threads(team) reduction(+ : outsideDelta)
         {
-            const int64_t t = omp_get_thread_num();
-            const int64_t n = omp_get_num_threads();
-            outsideDelta += applyRange(count * t / n, count * (t + 1) / n, m_threadLists[size_t(t)]);
+            // With fewer threads than asked for, a thread takes several ranges; the ranges still cover the queue.
+            const int n = omp_get_num_threads();
+            for (int c = omp_get_thread_num(); c < team; c += n)
+            {
+                outsideDelta += applyRange(count * c / team, count * (c + 1) / team, m_threadLists[size_t(c)]);
+            }
         }
-        // With fewer threads than asked for, the ranges still cover the queue; the unused lists stay empty.
     }
     else
     {
@@ -269,6 +362,7 @@ void QuadtreeBroadPhase::ApplyQueued(int threads)
     }
     m_queuedCount = 0;
     m_hasQueued.store(false, std::memory_order_release);
+    NoteStale();
     m_counters.updateSeconds += SecondsSince(start);
 }
 
@@ -347,17 +441,17 @@ void QuadtreeBroadPhase::FindPairs(std::vector<Pair>& out)
     }
     m_pool.LendBuffer(m_work);
     const size_t before = out.size();
-    if (threads > 1 && int64_t(m_work.size()) >= int64_t(m_config.parallelThreshold))
+    try
     {
-        FindPairsParallel(out, threads);
-        m_counters.parallelCalls += 1;
+        FindPairsOfWork(out, threads);
     }
-    else
+    catch (...)
     {
-        for (ProxyId q : m_work)
-        {
-            QueryPairsOf(q, out);
-        }
+        // std::bad_alloc (the only exception the search can throw): nothing reported, nothing lost. The proxies
+        // are buffered again, so the next call searches their pairs.
+        out.resize(before);
+        m_pool.UnlendWork(m_work);
+        throw;
     }
     const int64_t queried = int64_t(m_work.size());
     m_pool.ReturnWork(m_work);
@@ -385,6 +479,22 @@ void QuadtreeBroadPhase::FindPairs(std::vector<Pair>& out)
     }
 }
 
+void QuadtreeBroadPhase::FindPairsOfWork(std::vector<Pair>& out, int threads)
+{
+    if (threads > 1 && int64_t(m_work.size()) >= int64_t(m_config.parallelThreshold))
+    {
+        FindPairsParallel(out, threads);
+        m_counters.parallelCalls += 1;
+    }
+    else
+    {
+        for (ProxyId q : m_work)
+        {
+            QueryPairsOf(q, out);
+        }
+    }
+}
+
 int QuadtreeBroadPhase::Threads() const
 {
     return m_config.threads > 0 ? m_config.threads : omp_get_max_threads();
@@ -397,19 +507,30 @@ void QuadtreeBroadPhase::UpdateStaleEntries()
         return;
     }
     const Clock::time_point start = Clock::now();
-    // Filtered in place (no second array): the live ones are handed to the pyramid.
+    ++m_mutations;
+    // Filtered in place (no second array): the live ones are handed to the pyramid. They stay flagged until their
+    // entries are written, so that std::bad_alloc inside UpdateBatch leaves every one listed and flagged (queries
+    // then test their boxes from the list, and the next call writes them).
     size_t kept = 0;
     for (ProxyId id : m_stale)
     {
-        m_pool.ClearStale(id);
         if (m_pool.IsLive(id))
         {
             m_stale[kept++] = id;
         }
+        else
+        {
+            m_pool.ClearStale(id);
+        }
     }
     m_stale.resize(kept);
     m_counters.reinserts += m_pyramid.UpdateBatch(m_stale, m_pool.FatData()); // one thread: see UpdateBatch
+    for (ProxyId id : m_stale)
+    {
+        m_pool.ClearStale(id);
+    }
     m_stale.clear();
+    NoteStale();
     m_counters.updateSeconds += SecondsSince(start);
 }
 
@@ -433,19 +554,45 @@ void QuadtreeBroadPhase::FindPairsParallel(std::vector<Pair>& out, int threads)
     static constexpr omp_sched_t kKinds[] = {omp_sched_static, omp_sched_dynamic, omp_sched_guided, omp_sched_auto};
     omp_set_schedule(kKinds[int(m_config.schedule)], m_config.chunk);
 
+    // A block's pair list may grow, and an exception must not leave the region (that ends the program): the first
+    // one is kept and thrown again after the region, on the caller's thread.
+    std::exception_ptr error;
+    std::atomic<bool> failed{false};
 #pragma omp parallel for schedule(runtime) num_threads(threads)
     for (int64_t b = 0; b < blocks; ++b)
     {
-        std::vector<Pair>& pairs = m_blockPairs[size_t(b)];
-        pairs.clear();
-        const int64_t end = std::min(count, (b + 1) * kBlock);
-        for (int64_t i = b * kBlock; i < end; ++i)
+        if (failed.load(std::memory_order_relaxed))
         {
-            QueryPairsOf(m_work[size_t(i)], pairs);
+            continue;
+        }
+        try
+        {
+            std::vector<Pair>& pairs = m_blockPairs[size_t(b)];
+            pairs.clear();
+            const int64_t end = std::min(count, (b + 1) * kBlock);
+            for (int64_t i = b * kBlock; i < end; ++i)
+            {
+                QueryPairsOf(m_work[size_t(i)], pairs);
+            }
+        }
+        catch (...)
+        {
+#pragma omp critical(quadphase_find_pairs_error)
+            {
+                if (!error)
+                {
+                    error = std::current_exception();
+                }
+            }
+            failed.store(true, std::memory_order_relaxed);
         }
     }
 
     omp_set_schedule(previousKind, previousChunk); // the schedule ICV belongs to the caller's thread
+    if (error)
+    {
+        std::rethrow_exception(error);
+    }
     size_t total = out.size();
     for (int64_t b = 0; b < blocks; ++b)
     {
@@ -461,67 +608,282 @@ void QuadtreeBroadPhase::FindPairsParallel(std::vector<Pair>& out, int threads)
 
 void QuadtreeBroadPhase::Query(const Box& box, QueryFn fn, void* context) const
 {
-    ApplyQueuedIfAny();
-    if (m_stale.empty())
-    {
-        m_pyramid.Visit(box, [&](const Entry& e) { return Overlaps(e.box, box) ? fn(context, e.id) : true; });
-        return;
-    }
-    // Stale entries hold an old box: skip them, and test the current boxes of the stale proxies instead.
-    bool proceed = true;
+    ApplyForRead(); // no stale entry from here to the first callback
+    // Every candidate is collected before the first callback, so a callback may change the pyramid and the pool
+    // (create, destroy, move, even rebuild) without this loop reading what it changed.
+    SmallBuffer<ProxyId, 64> hits;
     m_pyramid.Visit(box, [&](const Entry& e) {
-        proceed = m_pool.IsStale(e.id) || !Overlaps(e.box, box) || fn(context, e.id);
-        return proceed;
-    });
-    for (size_t i = 0; proceed && i < m_stale.size(); ++i)
-    {
-        const ProxyId id = m_stale[i];
-        if (m_pool.IsLive(id) && Overlaps(m_pool.Fat(id), box))
+        if (Overlaps(e.box, box))
         {
-            proceed = fn(context, id);
+            hits.push_back(e.id);
+        }
+        return true;
+    });
+    const uint64_t collected = m_mutations;
+    for (size_t i = 0; i < hits.size(); ++i)
+    {
+        const ProxyId id = hits[i];
+        // After a callback changed something, a candidate is reported only while it is live and its current box
+        // still overlaps: a destroyed proxy is never reported after its destruction (its id may even have been
+        // reused), and a moved one is reported only where it now is.
+        if (m_mutations != collected && !(m_pool.IsLive(id) && Overlaps(m_pool.Fat(id), box)))
+        {
+            continue;
+        }
+        if (!fn(context, id))
+        {
+            return;
         }
     }
 }
 
-void QuadtreeBroadPhase::RayCast(const RayInput& input, RayCastFn fn, void* context) const
+namespace
 {
-    ApplyQueuedIfAny();
-    SegmentTest segment(input);
-    // Visit reads the range of each level from this box, so clipping the ray shrinks the search of later levels.
-    Box range = segment.Bounds();
-    const bool anyStale = !m_stale.empty();
-    // Reports one proxy whose box the ray may cross; false when the caller ended the ray cast.
-    auto report = [&](ProxyId id) {
-        const RayInput sub{input.p1, input.p2, segment.MaxFraction()};
-        const float value = fn(context, sub, id);
-        if (value == 0.0f)
+
+// The cells a segment's proxies can live in, level by level: see QuadtreeBroadPhase::RayCast and docs/design.md
+// ("Ray casts"). Works in deepest-level cell units ("leaf units"), in double.
+class RayWalk
+{
+public:
+    RayWalk(const Pyramid& pyramid, const RayInput& input)
+    {
+        const double invLeaf = double(pyramid.InvLeaf());
+        const double ox = double(pyramid.OriginX());
+        const double oy = double(pyramid.OriginY());
+        m_u0 = (double(input.p1.x) - ox) * invLeaf;
+        m_v0 = (double(input.p1.y) - oy) * invLeaf;
+        m_du = (double(input.p2.x) - double(input.p1.x)) * invLeaf;
+        m_dv = (double(input.p2.y) - double(input.p1.y)) * invLeaf;
+        m_max = double(pyramid.MaxCoord());
+        m_depth = pyramid.Depth();
+        // Slack for float rounding, in leaf units. The proxies' cells come from float coordinates and the segment
+        // test (SegmentTest::MayCross) runs in float, so a box the exact segment misses by a few ulps may still
+        // pass it; such a box must lie in a walked cell. Errors there are a few ulps (2^-23 relative) of the
+        // magnitudes involved; 2^-19 of their sum, plus a thousandth of a cell, is a wide margin.
+        const double magnitude = std::fabs(ox) + std::fabs(oy) + 2.0 * double(pyramid.Bounds().maxX - pyramid.Bounds().minX) +
+                                 std::fabs(double(input.p1.x)) + std::fabs(double(input.p1.y)) +
+                                 std::fabs(double(input.p2.x)) + std::fabs(double(input.p2.y));
+        m_eps = 1e-3 + magnitude * invLeaf * (1.0 / 524288.0);
+        m_valid = std::isfinite(m_u0) && std::isfinite(m_v0) && std::isfinite(m_du) && std::isfinite(m_dv) &&
+                  std::isfinite(m_eps) && (m_du != 0.0 || m_dv != 0.0);
+    }
+
+    /// False for segments the walk cannot follow (non-finite, zero length): use the bounding box instead.
+    bool Valid() const { return m_valid; }
+
+    /// Cells the walk of `level` reads, about, up to fraction t.
+    int64_t Cost(int level, double t) const
+    {
+        const double cs = CellSize(level);
+        const double w = std::fabs(Clamp(m_u0 + t * m_du) - Clamp(m_u0)) / cs;
+        const double z = std::fabs(Clamp(m_v0 + t * m_dv) - Clamp(m_v0)) / cs;
+        return int64_t(std::min(2.0 * w + 3.0 * z + 9.0, 4e18));
+    }
+
+    /// Stored rows of `level` in the ray's direction: from First(level) to Last(level, t) (inclusive), stepping by
+    /// Step(). Last moves toward First as the segment is clipped.
+    int32_t First(int level) const
+    {
+        const double z = Clamp(m_v0) / CellSize(level);
+        const double e = Slack(level);
+        return ClampRow(level, m_dv >= 0.0 ? Floor(z - e) - 1 : Floor(z + e));
+    }
+    int32_t Last(int level, double t) const
+    {
+        const double z = Clamp(m_v0 + t * m_dv) / CellSize(level);
+        const double e = Slack(level);
+        return ClampRow(level, m_dv >= 0.0 ? Floor(z + e) : Floor(z - e) - 1);
+    }
+    int32_t Step() const { return m_dv >= 0.0 ? 1 : -1; }
+
+    /// The columns [x0, x1] of stored row r of `level` whose proxies the segment up to fraction t may reach; false
+    /// when there are none. A proxy stored in cell (cx, cy) lies, in clamped coordinates, within cells cx..cx+1 and
+    /// cy..cy+1 (Pyramid's placement rule), so row r's proxies are reached only by points of the segment whose
+    /// clamped row is r or r + 1; their columns, less one, bound the stored columns.
+    bool Columns(int level, int32_t r, double t, int32_t& x0, int32_t& x1) const
+    {
+        const double cs = CellSize(level);
+        const double e = Slack(level) * cs;
+        const double inf = std::numeric_limits<double>::infinity();
+        // The band of unclamped v whose clamped value lies in rows [r, r + 2), widened by the slack.
+        const double vLo = double(r) * cs - e <= 0.0 ? -inf : double(r) * cs - e;
+        const double vHi = double(r + 2) * cs + e >= m_max ? inf : double(r + 2) * cs + e;
+        double ta = 0.0;
+        double tb = t;
+        if (m_dv != 0.0)
+        {
+            double t1 = (vLo - m_v0) / m_dv;
+            double t2 = (vHi - m_v0) / m_dv;
+            if (t1 > t2)
+            {
+                std::swap(t1, t2);
+            }
+            ta = std::max(ta, t1);
+            tb = std::min(tb, t2);
+        }
+        else if (!(vLo <= m_v0 && m_v0 <= vHi))
         {
             return false;
         }
-        if (value > 0.0f)
+        if (!(ta <= tb))
         {
-            segment.Clip(value);
-            range = segment.Bounds();
+            return false;
+        }
+        const double ua = m_u0 + ta * m_du;
+        const double ub = m_u0 + tb * m_du;
+        const int32_t side = LevelSide(level);
+        x0 = std::max(0, Floor(Clamp(std::min(ua, ub) - e) / cs) - 1);
+        x1 = std::min(side - 1, Floor(Clamp(std::max(ua, ub) + e) / cs));
+        return x0 <= x1;
+    }
+
+    /// True when the ray runs toward smaller x (columns are then walked from x1 down to x0).
+    bool Backward() const { return m_du < 0.0; }
+
+private:
+    double CellSize(int level) const { return double(int64_t(1) << (m_depth - level)); }
+    // Slack in cells of `level`: the leaf-unit slack, plus 2^-16 of a cell for the division by the cell size.
+    double Slack(int level) const { return m_eps / CellSize(level) + (1.0 / 65536.0); }
+    double Clamp(double u) const { return u < 0.0 ? 0.0 : (u > m_max ? m_max : u); }
+    static int32_t Floor(double x)
+    {
+        const double f = std::floor(x);
+        return f < -1e9 ? -1000000000 : (f > 1e9 ? 1000000000 : int32_t(f));
+    }
+    static int32_t ClampRow(int level, int32_t r) { return std::max(0, std::min(LevelSide(level) - 1, r)); }
+
+    double m_u0 = 0.0, m_v0 = 0.0, m_du = 0.0, m_dv = 0.0, m_max = 0.0, m_eps = 0.0;
+    int m_depth = 0;
+    bool m_valid = false;
+};
+
+} // namespace
+
+void QuadtreeBroadPhase::RayCast(const RayInput& input, RayCastFn fn, void* context) const
+{
+    ApplyForRead(); // no stale entry from here to the first callback
+    SegmentTest segment(input);
+    // Candidates are collected a batch at a time (a row of cells, or a level) and reported after the batch is
+    // complete, so a callback may change the pyramid and the pool without the walk reading what it changed: cells
+    // are read again by index, after the callbacks, for the next batch.
+    SmallBuffer<Entry, 32> batch;
+    SmallBuffer<ProxyId, 32> reported; // ids reported by this call, to report none twice after a change
+    const uint64_t startMutations = m_mutations;
+    bool restarted = false;
+    // Reports the batch in order; false when the caller ended the ray cast.
+    auto reportBatch = [&](uint64_t collected) {
+        for (size_t i = 0; i < batch.size(); ++i)
+        {
+            const Entry& e = batch[i];
+            if (m_mutations == collected)
+            {
+                if (!segment.MayCross(e.box)) // the segment may have been clipped since the entry was collected
+                {
+                    continue;
+                }
+            }
+            else if (!(m_pool.IsLive(e.id) && segment.MayCross(m_pool.Fat(e.id))))
+            {
+                continue; // destroyed (its id may have been reused) or moved away by a callback
+            }
+            // Without a change since the call began, each entry is collected once: no id can come twice.
+            if (restarted || m_mutations != startMutations)
+            {
+                if (reported.contains(e.id))
+                {
+                    continue;
+                }
+            }
+            reported.push_back(e.id);
+            const RayInput sub{input.p1, input.p2, segment.MaxFraction()};
+            const float value = fn(context, sub, e.id);
+            if (value == 0.0f)
+            {
+                return false;
+            }
+            if (value > 0.0f)
+            {
+                segment.Clip(value);
+            }
+        }
+        batch.clear();
+        return true;
+    };
+    auto collect = [&](const Entry& e) {
+        if (segment.MayCross(e.box))
+        {
+            batch.push_back(e);
         }
         return true;
     };
-    bool proceed = true;
-    m_pyramid.Visit(range, [&](const Entry& e) {
-        // Stale entries hold an old box; their proxies are tested below with their current box.
-        if ((anyStale && m_pool.IsStale(e.id)) || !segment.MayCross(e.box))
-        {
-            return true;
-        }
-        proceed = report(e.id);
-        return proceed;
-    });
-    for (size_t i = 0; proceed && i < m_stale.size(); ++i)
+    for (int restarts = 0; restarts <= 64; ++restarts)
     {
-        const ProxyId id = m_stale[i];
-        if (m_pool.IsLive(id) && segment.MayCross(m_pool.Fat(id)))
+        const uint64_t version = m_pyramid.Version();
+        const RayWalk walk(m_pyramid, input);
+        bool changed = false;
+        for (int level = 0; level <= m_pyramid.Depth() && !changed; ++level)
         {
-            proceed = report(id);
+            if (m_pyramid.LevelCount(level) == 0)
+            {
+                continue;
+            }
+            const double t = double(segment.MaxFraction());
+            if (walk.Valid() && walk.Cost(level, t) < m_pyramid.VisitCost(level, segment.Bounds()))
+            {
+                // Row by row along the ray; each row's cells in the ray's direction.
+                for (int32_t r = walk.First(level);; r += walk.Step())
+                {
+                    const double tNow = double(segment.MaxFraction());
+                    const int32_t last = walk.Last(level, tNow);
+                    if (walk.Step() > 0 ? r > last : r < last)
+                    {
+                        break;
+                    }
+                    int32_t x0, x1;
+                    if (!walk.Columns(level, r, tNow, x0, x1))
+                    {
+                        continue;
+                    }
+                    const uint64_t collected = m_mutations;
+                    for (int32_t k = 0; k <= x1 - x0; ++k)
+                    {
+                        const int32_t x = walk.Backward() ? x1 - k : x0 + k;
+                        int32_t count;
+                        const Entry* entries = m_pyramid.CellEntries(level, x, r, count);
+                        for (int32_t i = 0; i < count; ++i)
+                        {
+                            collect(entries[i]);
+                        }
+                    }
+                    if (!reportBatch(collected))
+                    {
+                        return;
+                    }
+                    if (m_pyramid.Version() != version)
+                    {
+                        changed = true;
+                        break;
+                    }
+                }
+            }
+            else
+            {
+                const uint64_t collected = m_mutations;
+                m_pyramid.VisitLevel(level, segment.Bounds(), collect);
+                if (!reportBatch(collected))
+                {
+                    return;
+                }
+                changed = m_pyramid.Version() != version;
+            }
         }
+        if (!changed)
+        {
+            return;
+        }
+        // A callback rebuilt the pyramid: walk the new one from the root, with the clipped segment, skipping the
+        // ids already reported.
+        restarted = true;
     }
 }
 
@@ -664,11 +1026,16 @@ void QuadtreeBroadPhase::Rebuild(float originX, float originY, float side, int d
         m_pool.ClearStale(id);
     }
     m_stale.clear();
+    NoteStale();
+    ++m_mutations;
     m_counters.rebuilds += 1;
 }
 
 Stats QuadtreeBroadPhase::GetStats() const
 {
+    // Const calls on other threads may be applying queued moves (under this lock), which writes the counters,
+    // the per-thread lists and the pyramid.
+    std::lock_guard<std::mutex> lock(m_queueMutex);
     Stats s = m_counters;
     s.depth = m_pyramid.Depth();
     s.bounds = m_pyramid.Bounds();

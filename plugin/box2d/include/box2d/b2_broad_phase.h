@@ -4,6 +4,8 @@
 #ifndef B2_BROAD_PHASE_H
 #define B2_BROAD_PHASE_H
 
+#include <memory>
+#include <mutex>
 #include <vector>
 
 #include "b2_api.h"
@@ -63,7 +65,10 @@ public:
     /// Call to trigger a re-processing of it's pairs on the next call to UpdatePairs.
     void TouchProxy(int32 proxyId);
 
-    /// Get the fat AABB for a proxy. The reference stays valid until the proxy is moved, destroyed or shifted.
+    /// Get the fat AABB for a proxy.
+    /// quadphase: the reference is to a copy kept for this proxy id (the quadtree stores boxes in its own type,
+    /// and reading them through a b2AABB would break strict aliasing). It stays readable while the broadphase
+    /// lives; its value is the fat AABB as of this call, refreshed by the next GetFatAABB of the same id.
     const b2AABB& GetFatAABB(int32 proxyId) const;
 
     /// Get user data from a proxy. Returns nullptr if the id is invalid.
@@ -83,6 +88,10 @@ public:
 
     /// Query an AABB for overlapping proxies. The callback class
     /// is called for each proxy that overlaps the supplied AABB.
+    /// quadphase: the callback may create, destroy and move proxies (b2World::QueryAABB callbacks that spawn,
+    /// destroy, teleport, enable or wake bodies). A proxy that exists before the call and is neither destroyed nor
+    /// moved during it is reported once; one destroyed during the call is never reported after its destruction;
+    /// one created or moved during it may or may not be (QuadtreeBroadPhase::Query).
     template <typename T>
     void Query(T* callback, const b2AABB& aabb) const;
 
@@ -91,6 +100,8 @@ public:
     /// The callback also performs the any collision filtering.
     /// @param input the ray-cast input data. The ray extends from p1 to p1 + maxFraction * (p2 - p1).
     /// @param callback a callback class that is called for each proxy that is hit by the ray.
+    /// quadphase: walks only the cells the (clipped) ray can reach; the callback may change the broadphase as in
+    /// Query, with the same guarantees (QuadtreeBroadPhase::RayCast).
     template <typename T>
     void RayCast(T* callback, const b2RayCastInput& input) const;
 
@@ -133,15 +144,17 @@ private:
     std::vector<quadphase::Pair> m_pairs;
     quadphase::ShadowValidator* m_shadow = nullptr;
     quadphase::Trace* m_trace = nullptr;
+    // GetFatAABB's copies, in chunks that never move (a reference handed out stays valid), allocated on first use:
+    // Box2D itself reads fat AABBs only to draw them.
+    static constexpr int32 kFatChunk = 256;
+    mutable std::vector<std::unique_ptr<b2AABB[]>> m_fatCopies;
+    mutable std::mutex m_fatCopiesMutex; // GetFatAABB is const: concurrent const calls may write the copies
 };
 
 namespace quadphase
 {
 namespace detail
 {
-// b2AABB and quadphase::Box are both four floats in the order lower.x, lower.y, upper.x, upper.y.
-static_assert(sizeof(b2AABB) == sizeof(Box), "b2AABB and quadphase::Box must have the same layout");
-
 inline Box ToBox(const b2AABB& a)
 {
     return Box{a.lowerBound.x, a.lowerBound.y, a.upperBound.x, a.upperBound.y};
@@ -173,11 +186,6 @@ inline void* b2BroadPhase::GetUserData(int32 proxyId) const
 inline bool b2BroadPhase::TestOverlap(int32 proxyIdA, int32 proxyIdB) const
 {
     return m_core.TestOverlap(proxyIdA, proxyIdB);
-}
-
-inline const b2AABB& b2BroadPhase::GetFatAABB(int32 proxyId) const
-{
-    return reinterpret_cast<const b2AABB&>(m_core.GetFatBox(proxyId));
 }
 
 inline int32 b2BroadPhase::GetProxyCount() const

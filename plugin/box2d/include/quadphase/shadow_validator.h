@@ -30,8 +30,8 @@ struct ValidationReport
 class ShadowValidator
 {
 public:
-    /// Starts validating `core`. Proxies that already exist are copied into the shadow tree with the exact fat
-    /// AABBs the quadtree stores.
+    /// Starts validating `core`. Applies its queued moves, then copies the proxies that already exist into the
+    /// shadow tree with the exact fat AABBs the quadtree stores.
     explicit ShadowValidator(const QuadtreeBroadPhase& core);
 
     void OnCreate(ProxyId id, const b2AABB& aabb);

@@ -18,9 +18,17 @@ enum class ErrorCode
 using ErrorHandler = void (*)(ErrorCode code, const char* message, void* context);
 
 /// Installs a process-wide handler (nullptr restores the default) and returns the previous one.
-/// The default handler prints the message to stderr and, in builds without NDEBUG, aborts like an assert.
+/// The default handler prints the message to stderr and goes on, in every build type, as stock Box2D goes on
+/// with a runaway body (it has no assertion on the MoveProxy path); in strict mode (SetStrictErrors) it aborts
+/// after printing. A bad box is reported once per proxy (the first one it gets), not once per call, so a
+/// runaway body costs one line, not one per step; unknown ids are reported at every call.
 /// Not thread-safe: install it before creating broadphases.
 ErrorHandler SetErrorHandler(ErrorHandler handler, void* context = nullptr);
+
+/// Strict mode: the default handler aborts after printing, like an assert (for tests and debugging). Off by
+/// default; also switched on by QUADPHASE_STRICT=1 in the environment (read at the first report). Has no
+/// effect on an installed handler. Returns the previous setting. Not thread-safe, like SetErrorHandler.
+bool SetStrictErrors(bool strict);
 
 /// Reports an error through the installed handler. printf-style.
 void ReportError(ErrorCode code, const char* format, ...)

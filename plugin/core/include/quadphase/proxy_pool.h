@@ -1,6 +1,7 @@
 // Proxy records shared by every broadphase implementation: ids, fat boxes, user data and the move buffer.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -69,6 +70,16 @@ public:
         m_moveBuffer.insert(m_moveBuffer.end(), ids.begin(), ids.end());
     }
 
+    /// Makes room for `more` move-buffer entries, so that the next AppendBuffered calls adding up to that many do
+    /// not allocate (they run after a parallel region whose work must not be half-recorded).
+    void ReserveBuffer(size_t more)
+    {
+        if (m_moveBuffer.capacity() < m_moveBuffer.size() + more)
+        {
+            m_moveBuffer.reserve(std::max(m_moveBuffer.size() + more, 2 * m_moveBuffer.capacity()));
+        }
+    }
+
     /// Moves the live buffered proxies, in buffer order, into `work` (cleared first) and empties the buffer.
     /// Each proxy in `work` is flagged "in work" until ReleaseWork; see InWork.
     void TakeBuffer(std::vector<ProxyId>& work);
@@ -81,6 +92,9 @@ public:
     /// as the empty move buffer.
     void LendBuffer(std::vector<ProxyId>& work);
     void ReturnWork(std::vector<ProxyId>& work);
+    /// Undoes LendBuffer after a failure (std::bad_alloc in FindPairs): the proxies of `work` are the move buffer
+    /// again, in the same order, so the next FindPairs searches their pairs. Allocates nothing.
+    void UnlendWork(std::vector<ProxyId>& work);
 
     /// Flags a proxy whose fat box changed since its cell entry was written ("stale"). Returns true when it was not
     /// flagged yet, i.e. when the caller should add it to its list of stale proxies. Like the buffered flag, the
@@ -100,6 +114,13 @@ public:
     }
     void ClearPending(ProxyId id) { m_state[size_t(id)] &= uint8_t(~kPending); }
     bool IsPending(ProxyId id) const { return (m_state[size_t(id)] & kPending) != 0; }
+
+    /// Flags a live proxy whose bad box (non-finite or inverted) has been reported. Returns true the first time in
+    /// the proxy's life (Allocate clears the flag), so that a runaway body is reported once, not once per step.
+    bool MarkBadReported(ProxyId id)
+    {
+        return TestAndSet(id, kBadReported);
+    }
 
     /// True when `id` is live and has no queued move: QuadtreeBroadPhase::QueueMove's common case, one load.
     bool IsLiveAndNotPending(ProxyId id) const
@@ -144,6 +165,7 @@ private:
     static constexpr uint8_t kInWork = 4;
     static constexpr uint8_t kStale = 8;
     static constexpr uint8_t kPending = 16;
+    static constexpr uint8_t kBadReported = 32;
 
     // Sets `flag` on `id`; true when it was not set before.
     bool TestAndSet(ProxyId id, uint8_t flag)

@@ -76,6 +76,38 @@ public:
     template <typename Visitor>
     void Visit(const Box& query, Visitor&& visit) const;
 
+    /// Visit restricted to one level. Returns false when visit did.
+    template <typename Visitor>
+    bool VisitLevel(int level, const Box& query, Visitor&& visit) const;
+
+    /// What VisitLevel(level, query, ...) reads: the number of cells of the level that `query`'s range covers, or
+    /// the level's proxy count when that is smaller (VisitLevel then walks the level's list).
+    int64_t VisitCost(int level, const Box& query) const;
+
+    /// Incremented by Reset (a new shape: every cell index changes meaning). A caller that walks cells across
+    /// calls that may change the pyramid (RayCast, whose callbacks may call back into the broadphase) starts again
+    /// when it changes. Other changes keep every entry they do not move or remove in its cell (Insert and Push
+    /// append, removal swaps a cell's last entry into the hole, Compact moves blocks, not entries between cells),
+    /// so a walk that reads cells by index again after each callback misses only entries that moved.
+    uint64_t Version() const { return m_version; }
+
+    /// The placement rule's coordinate function, for walks that compute cells themselves (RayCast): a point with
+    /// coordinate x is at deepest-level column trunc(clamp((x - OriginX()) * InvLeaf(), 0, MaxCoord())), and at
+    /// level l at that column shifted right by Depth() - l. The same for y with OriginY().
+    float OriginX() const { return m_originX; }
+    float OriginY() const { return m_originY; }
+    float InvLeaf() const { return m_invLeaf; }
+    float MaxCoord() const { return m_maxCoord; }
+
+    /// The entries of cell (x, y) of `level` (row-major; 0 <= x, y < LevelSide(level)), `count` of them. Valid
+    /// until the next change of the pyramid.
+    const Entry* CellEntries(int level, int32_t x, int32_t y, int32_t& count) const
+    {
+        const int32_t cell = LevelOffset(level) + y * LevelSide(level) + x;
+        count = m_store.Size(cell);
+        return m_store.Data(cell);
+    }
+
     int Depth() const { return m_depth; }
     float LeafSize() const { return m_leafSize; }
     Box Bounds() const { return Box{m_originX, m_originY, m_originX + m_side, m_originY + m_side}; }
@@ -165,6 +197,7 @@ private:
     std::vector<std::vector<ProxyId>> m_levelProxies; // per level
     std::vector<Location> m_location;                 // per id
     int32_t m_outsideCount = 0;
+    uint64_t m_version = 0;
 };
 
 template <typename Visitor>
@@ -172,55 +205,65 @@ void Pyramid::Visit(const Box& query, Visitor&& visit) const
 {
     for (int level = 0; level <= m_depth; ++level)
     {
-        const std::vector<ProxyId>& levelList = m_levelProxies[size_t(level)];
-        if (levelList.empty())
+        if (!VisitLevel(level, query, visit))
         {
-            continue; // levels nobody uses cost one comparison
+            return;
         }
-        const int shift = m_depth - level;
-        int32_t x0 = (CoordX(query.minX) >> shift) - 1;
-        int32_t y0 = (CoordY(query.minY) >> shift) - 1;
-        const int32_t x1 = CoordX(query.maxX) >> shift;
-        const int32_t y1 = CoordY(query.maxY) >> shift;
-        x0 = x0 < 0 ? 0 : x0;
-        y0 = y0 < 0 ? 0 : y0;
-        if (x1 < x0 || y1 < y0)
+    }
+}
+
+template <typename Visitor>
+bool Pyramid::VisitLevel(int level, const Box& query, Visitor&& visit) const
+{
+    const std::vector<ProxyId>& levelList = m_levelProxies[size_t(level)];
+    if (levelList.empty())
+    {
+        return true; // levels nobody uses cost one comparison
+    }
+    const int shift = m_depth - level;
+    int32_t x0 = (CoordX(query.minX) >> shift) - 1;
+    int32_t y0 = (CoordY(query.minY) >> shift) - 1;
+    const int32_t x1 = CoordX(query.maxX) >> shift;
+    const int32_t y1 = CoordY(query.maxY) >> shift;
+    x0 = x0 < 0 ? 0 : x0;
+    y0 = y0 < 0 ? 0 : y0;
+    if (x1 < x0 || y1 < y0)
+    {
+        return true;
+    }
+    const int64_t area = int64_t(x1 - x0 + 1) * int64_t(y1 - y0 + 1);
+    if (area > int64_t(levelList.size()))
+    {
+        // The range covers more cells than the level has proxies: walking the level's list is cheaper.
+        for (ProxyId id : levelList)
         {
-            continue;
-        }
-        const int64_t area = int64_t(x1 - x0 + 1) * int64_t(y1 - y0 + 1);
-        if (area > int64_t(levelList.size()))
-        {
-            // The range covers more cells than the level has proxies: walking the level's list is cheaper.
-            for (ProxyId id : levelList)
+            const Location& loc = m_location[size_t(id)];
+            if (!visit(m_store.Data(loc.cell)[loc.slot]))
             {
-                const Location& loc = m_location[size_t(id)];
-                if (!visit(m_store.Data(loc.cell)[loc.slot]))
-                {
-                    return;
-                }
+                return false;
             }
-            continue;
         }
-        const int32_t side = LevelSide(level);
-        const int32_t offset = LevelOffset(level);
-        for (int32_t y = y0; y <= y1; ++y)
+        return true;
+    }
+    const int32_t side = LevelSide(level);
+    const int32_t offset = LevelOffset(level);
+    for (int32_t y = y0; y <= y1; ++y)
+    {
+        const int32_t rowBase = offset + y * side;
+        for (int32_t x = x0; x <= x1; ++x)
         {
-            const int32_t rowBase = offset + y * side;
-            for (int32_t x = x0; x <= x1; ++x)
+            const Entry* entries = m_store.Data(rowBase + x);
+            const int32_t count = m_store.Size(rowBase + x);
+            for (int32_t i = 0; i < count; ++i)
             {
-                const Entry* entries = m_store.Data(rowBase + x);
-                const int32_t count = m_store.Size(rowBase + x);
-                for (int32_t i = 0; i < count; ++i)
+                if (!visit(entries[i]))
                 {
-                    if (!visit(entries[i]))
-                    {
-                        return;
-                    }
+                    return false;
                 }
             }
         }
     }
+    return true;
 }
 
 } // namespace quadphase

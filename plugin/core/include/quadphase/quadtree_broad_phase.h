@@ -23,8 +23,9 @@ namespace quadphase
 /// - QueueMove (what the Box2D adapter calls) is O(1) and only records the move; the moves recorded since the
 ///   last FindPairs are applied by the next FindPairs, in parallel (see QueueMove).
 /// - MoveProxy is O(1): the fat-box test; when the box changed, the proxy is listed as stale. Its cell entry is
-///   brought up to date by the next FindPairs, for all stale proxies at once, on one thread (Pyramid::UpdateBatch);
-///   until then Query and RayCast skip its entry and test its current box from the stale list.
+///   brought up to date by the next FindPairs, Query or RayCast, for all stale proxies at once, on one thread
+///   (Pyramid::UpdateBatch): a query after a mass teleport then costs what it costs after a step, and the work is
+///   the work the next FindPairs would have done.
 /// - FindPairs is O(buffered proxies x their neighbourhoods): one query per buffered proxy, never a pass over
 ///   all proxies or all cells. Box2D calls it once per step and again after every time-of-impact event.
 /// - The pyramid is rebuilt (O(proxies)) when the automatic rule re-tunes depth and bounds: when the proxy
@@ -34,7 +35,13 @@ namespace quadphase
 /// Determinism: the same sequence of calls gives the same ids, the same pairs and the same pair order, at any
 /// thread count and schedule.
 /// Threading: no call may overlap another, except const calls with each other (a const call that finds queued
-/// moves applies them under a lock; see QueueMove).
+/// moves or stale entries applies them under a lock; see QueueMove). GetStats takes the same lock.
+/// Re-entrancy: the callbacks of Query and RayCast may call any method of this object (Box2D games create,
+/// destroy and move bodies from b2World::QueryAABB and RayCast callbacks); see Query for what is then reported.
+/// A rebuild (Configure, ShiftOrigin, an automatic re-tune) counts as moving every proxy.
+/// Allocation failure: std::bad_alloc propagates out of the call that needed the memory, never from inside an
+/// OpenMP region; FindPairs then leaves the queued moves or the move buffer as they were, so calling it again
+/// reports every pair.
 class QuadtreeBroadPhase final : public BroadPhaseInterface
 {
 public:
@@ -86,7 +93,28 @@ public:
     int32_t QueuedMoveCount() const { return int32_t(m_queuedCount); }
     void TouchProxy(ProxyId id) override;
     void FindPairs(std::vector<Pair>& out) override;
+
+    /// Calls fn for every proxy whose fat box overlaps `box`, until fn returns false. Applies queued moves and
+    /// brings stale entries up to date first (see QueueMove), so its cost follows the proxies near `box`.
+    /// Re-entrancy (stock b2DynamicTree's guarantees, or better): the candidates are collected before the first
+    /// callback, so fn may create, destroy and move proxies. Then:
+    /// - a proxy that existed before the call and is neither destroyed nor moved during it is reported, once;
+    /// - a proxy destroyed during the call is never reported after its destruction (stock reports it);
+    /// - a proxy created or moved during the call may or may not be reported (reported only if its box at that
+    ///   moment overlaps `box`);
+    /// - no id is reported twice in one call.
     void Query(const Box& box, QueryFn fn, void* context) const override;
+
+    /// Calls fn for every proxy whose fat box the segment may cross (b2DynamicTree::RayCast's test, with its
+    /// arithmetic); fn returns 0 to stop, a fraction in (0, maxFraction] to clip the segment, or a negative value
+    /// to go on unchanged. Walks, level by level from the root, only the cells whose proxies the (clipped) segment
+    /// can reach, row by row in the ray's direction, so a long or diagonal ray costs the cells it crosses, and a
+    /// closest-hit cast stops once the walk passes the clipped end. Falls back to the segment's bounding box where
+    /// that reads less (short rays, sparse levels, degenerate or non-finite segments).
+    /// Re-entrancy: as Query (same guarantees), with the clipped segment in place of the box. The cells of each
+    /// batch are read afresh after the previous batch's callbacks. When a callback rebuilds the pyramid (an
+    /// automatic re-tune, Configure, ShiftOrigin) the walk starts again from the root, skipping the ids already
+    /// reported; after 64 rebuilds within one call (callbacks that rebuild at every report) it ends the ray cast.
     void RayCast(const RayInput& input, RayCastFn fn, void* context) const override;
     void ShiftOrigin(Vec2 newOrigin) override;
 
@@ -103,7 +131,8 @@ public:
     void Configure(const Config& config);
     const Config& GetConfig() const { return m_config; }
 
-    /// A snapshot of shape and work counters. O(cells) for the occupancy fields.
+    /// A snapshot of shape and work counters. O(cells) for the occupancy fields. Safe beside concurrent const
+    /// calls: it takes the lock under which they apply queued moves.
     Stats GetStats() const;
     void ResetCounters();
 
@@ -156,6 +185,19 @@ private:
         }
     }
     void ApplyQueuedLocked() const;
+    // For Query and RayCast: applies the queue and brings the stale entries up to date (the work the next FindPairs
+    // would do, done once instead of each query scanning the stale list). Two atomic loads when there is none.
+    void ApplyForRead() const
+    {
+        if (m_hasQueued.load(std::memory_order_acquire) || m_hasStale.load(std::memory_order_acquire))
+        {
+            ApplyForReadLocked();
+        }
+    }
+    void ApplyForReadLocked() const;
+    void NoteStale() { m_hasStale.store(!m_stale.empty(), std::memory_order_release); }
+    void CheckBox(const Box& b, const char* call, ProxyId id);
+    void FindPairsOfWork(std::vector<Pair>& out, int threads);
     // Threads for applying a full queue: those of FindPairs, unless FindPairs currently runs serially by choice.
     int ChunkThreads() const { return m_config.threads == 0 && !m_choice.Parallel() ? 1 : Threads(); }
     void QueueMoveSlow(ProxyId id, const Box& tight, Vec2 displacement);
@@ -191,6 +233,7 @@ private:
     };
     std::vector<ThreadLists> m_threadLists;
     mutable std::atomic<bool> m_hasQueued{false}; // m_queuedCount > 0, readable without the lock
+    mutable std::atomic<bool> m_hasStale{false};  // !m_stale.empty(), readable without the lock
     mutable std::mutex m_queueMutex; // serialises const calls that apply the queue
     std::vector<ProxyId> m_work; // proxies whose pairs the current FindPairs searches (the pool's move buffer)
     std::vector<ProxyId> m_stale; // proxies whose fat box changed since their cell entry was written (see MoveProxy)
@@ -198,6 +241,10 @@ private:
     int32_t m_tunedCount = 0;    // live proxies at the last automatic tuning
     int32_t m_tunedOutside = 0;  // proxies outside the bounds right after the last automatic tuning
     ThreadChoice m_choice;
+    // Counts calls that changed proxies or entries (create, destroy, move, queue applied, rebuild). Query and
+    // RayCast compare it before and after their callbacks: unchanged means every collected candidate is still
+    // what it was, so the re-entrancy checks cost nothing in the common case.
+    uint64_t m_mutations = 0;
     bool m_timing = false;
     mutable Stats m_counters;    // work counters only; shape fields are filled by GetStats
 };

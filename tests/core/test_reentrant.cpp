@@ -1,0 +1,421 @@
+// Query and RayCast callbacks that call back into the broadphase (a game spawning, destroying and teleporting
+// bodies from b2World::QueryAABB and RayCast callbacks), queries after a mass teleport, and GetStats beside
+// concurrent const calls. The contract is on QuadtreeBroadPhase::Query:
+// - a proxy that existed before the call and is neither destroyed nor moved during it is reported, once;
+// - a proxy destroyed during the call is never reported after its destruction;
+// - proxies created or moved during the call may or may not be reported;
+// - no id is reported twice in one call.
+// Under AddressSanitizer (scripts/sanitize.sh) these also check that no callback makes the walk read freed memory.
+#include <algorithm>
+#include <atomic>
+#include <set>
+#include <thread>
+#include <vector>
+
+#include <catch2/catch.hpp>
+
+#include "quadphase/brute_force_broad_phase.h"
+#include "quadphase/quadtree_broad_phase.h"
+#include "quadphase/ray.h"
+#include "test_support.h"
+
+using namespace quadphase;
+using namespace qptest;
+
+namespace
+{
+
+Box SmallBoxAt(float x, float y, float half)
+{
+    return Box{x - half, y - half, x + half, y + half};
+}
+
+// A broadphase plus what the test knows of it: which ids are live and whose boxes changed during a call.
+struct World
+{
+    explicit World(uint32_t seed, const Config& config = Config{})
+        : rng(seed), qt(FatPolicy{}, config)
+    {
+    }
+
+    ProxyId Create(const Box& b)
+    {
+        const ProxyId id = qt.CreateProxy(b, nullptr);
+        live.insert(id);
+        liveList.push_back(id);
+        return id;
+    }
+
+    void Destroy(ProxyId id)
+    {
+        qt.DestroyProxy(id);
+        live.erase(id);
+        liveList.erase(std::find(liveList.begin(), liveList.end(), id));
+    }
+
+    Box RandomBox(float world)
+    {
+        return SmallBoxAt(Uniform(rng, 0.0f, world), Uniform(rng, 0.0f, world), Uniform(rng, 0.05f, 1.0f));
+    }
+
+    ProxyId AnyLive() { return liveList[size_t(UniformInt(rng, 0, int(liveList.size()) - 1))]; }
+
+    Rng rng;
+    QuadtreeBroadPhase qt;
+    std::set<ProxyId> live;
+    std::vector<ProxyId> liveList; // the same ids, for picking one at random in O(1)
+};
+
+// What one re-entrant call saw, and what its callbacks did.
+struct CallRecord
+{
+    World* world = nullptr;
+    std::vector<ProxyId> reported;
+    std::set<ProxyId> touched; // destroyed or moved during the call: no promise about them
+    int deadReported = 0;      // reports of ids that were not live at the time
+    int actions = 0;
+    float worldSize = 100.0f;
+    Box near{};                // where created proxies go, so that some of them overlap the query
+
+    // One random call back into the broadphase.
+    void Act()
+    {
+        World& w = *world;
+        const int roll = UniformInt(w.rng, 0, 99);
+        ++actions;
+        if (roll < 30)
+        {
+            // spawn debris, half of it where the query looks; many at once sometimes (a re-tune on doubling)
+            // (the doubling is capped: unchecked, a few doublings per call would grow the world without bound)
+            const bool doubling = w.live.size() < 1500 && Chance(w.rng, 0.05);
+            const int n = doubling ? int(w.live.size()) + 10 : UniformInt(w.rng, 1, 2);
+            for (int i = 0; i < n; ++i)
+            {
+                const Box b = Chance(w.rng, 0.5)
+                                  ? SmallBoxAt(Uniform(w.rng, near.minX, near.maxX), Uniform(w.rng, near.minY, near.maxY),
+                                               0.3f)
+                                  : w.RandomBox(worldSize);
+                touched.insert(w.Create(b));
+            }
+        }
+        else if (roll < 60 && w.live.size() > 20)
+        {
+            const ProxyId victim = w.AnyLive();
+            w.Destroy(victim);
+            touched.insert(victim);
+        }
+        else if (roll < 70)
+        {
+            const ProxyId id = w.AnyLive();
+            w.qt.QueueMove(id, w.RandomBox(worldSize), Vec2{1.0f, -1.0f}); // what b2Body::SetTransform does
+            touched.insert(id);
+        }
+        else if (roll < 80)
+        {
+            const ProxyId id = w.AnyLive();
+            w.qt.MoveProxy(id, w.RandomBox(worldSize), Vec2{0.0f, 0.0f});
+            touched.insert(id);
+        }
+        else if (roll < 90)
+        {
+            // a nested query: applies the queue and updates stale entries while the outer call is under way
+            IdCollector inner;
+            w.qt.Query(w.RandomBox(worldSize), &IdCollector::Callback, &inner);
+        }
+        // else: nothing
+    }
+
+    void Record(ProxyId id)
+    {
+        reported.push_back(id);
+        deadReported += world->live.count(id) == 0 ? 1 : 0;
+    }
+};
+
+bool QueryCallback(void* context, ProxyId id)
+{
+    CallRecord& call = *static_cast<CallRecord*>(context);
+    call.Record(id);
+    // Up to 40 actions a call: enough to change the world under the walk many times, without letting the world
+    // grow with the number of reports.
+    if (call.actions < 40 && Chance(call.world->rng, 0.5))
+    {
+        call.Act();
+    }
+    return true;
+}
+
+float RayCallback(void* context, const RayInput&, ProxyId id)
+{
+    CallRecord& call = *static_cast<CallRecord*>(context);
+    call.Record(id);
+    // Up to 40 actions a call: enough to change the world under the walk many times, without letting the world
+    // grow with the number of reports.
+    if (call.actions < 40 && Chance(call.world->rng, 0.5))
+    {
+        call.Act();
+    }
+    return -1.0f; // all hits, no clipping
+}
+
+// The proxies that existed before the call, were not touched during it, and must therefore have been reported.
+void CheckUntouchedReported(const CallRecord& call, const std::vector<ProxyId>& expectedBefore)
+{
+    std::set<ProxyId> reported(call.reported.begin(), call.reported.end());
+    for (ProxyId id : expectedBefore)
+    {
+        if (call.touched.count(id) == 0)
+        {
+            INFO("proxy " << id << " existed, overlapped, was not touched, and was not reported");
+            REQUIRE(reported.count(id) == 1);
+        }
+    }
+}
+
+void CheckNoRepeats(const CallRecord& call)
+{
+    std::vector<ProxyId> sorted = call.reported;
+    std::sort(sorted.begin(), sorted.end());
+    REQUIRE(std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end());
+}
+
+} // namespace
+
+TEST_CASE("Query callbacks may create, destroy and move proxies", "[query][reentrant]")
+{
+    const float size = 100.0f;
+    World w(4242u);
+    for (int i = 0; i < 300; ++i)
+    {
+        w.Create(w.RandomBox(size));
+    }
+    std::vector<Pair> pairs;
+    w.qt.FindPairs(pairs);
+    int actions = 0;
+    for (int round = 0; round < 400; ++round)
+    {
+        const float cx = Uniform(w.rng, 0.0f, size), cy = Uniform(w.rng, 0.0f, size);
+        const float half = Uniform(w.rng, 2.0f, 30.0f);
+        const Box q{cx - half, cy - half, cx + half, cy + half};
+        std::vector<ProxyId> before;
+        for (ProxyId id : w.live)
+        {
+            if (Overlaps(w.qt.GetFatBox(id), q))
+            {
+                before.push_back(id);
+            }
+        }
+        CallRecord call;
+        call.world = &w;
+        call.worldSize = size;
+        call.near = q;
+        INFO("round " << round);
+        w.qt.Query(q, &QueryCallback, &call);
+        REQUIRE(call.deadReported == 0);
+        CheckNoRepeats(call);
+        CheckUntouchedReported(call, before);
+        actions += call.actions;
+        if (round % 7 == 0)
+        {
+            w.qt.FindPairs(pairs);
+            REQUIRE(w.qt.Validate() == "");
+        }
+    }
+    REQUIRE(actions > 1000);
+    REQUIRE(w.qt.Validate() == "");
+}
+
+TEST_CASE("RayCast callbacks may create, destroy and move proxies", "[raycast][reentrant]")
+{
+    const float size = 200.0f;
+    Config config;
+    World w(777u, config);
+    for (int i = 0; i < 2000; ++i)
+    {
+        w.Create(w.RandomBox(size));
+    }
+    std::vector<Pair> pairs;
+    w.qt.FindPairs(pairs);
+    int actions = 0;
+    for (int round = 0; round < 300; ++round)
+    {
+        RayInput in{};
+        in.p1 = Vec2{Uniform(w.rng, -10.0f, size + 10.0f), Uniform(w.rng, -10.0f, size + 10.0f)};
+        in.p2 = Vec2{Uniform(w.rng, -10.0f, size + 10.0f), Uniform(w.rng, -10.0f, size + 10.0f)};
+        in.maxFraction = 1.0f;
+        const SegmentTest segment(in);
+        std::vector<ProxyId> before;
+        for (ProxyId id : w.live)
+        {
+            if (segment.MayCross(w.qt.GetFatBox(id)))
+            {
+                before.push_back(id);
+            }
+        }
+        CallRecord call;
+        call.world = &w;
+        call.worldSize = size;
+        call.near = segment.Bounds();
+        INFO("round " << round);
+        w.qt.RayCast(in, &RayCallback, &call);
+        REQUIRE(call.deadReported == 0);
+        CheckNoRepeats(call);
+        CheckUntouchedReported(call, before);
+        actions += call.actions;
+        if (round % 5 == 0)
+        {
+            w.qt.FindPairs(pairs);
+            REQUIRE(w.qt.Validate() == "");
+        }
+    }
+    REQUIRE(actions > 1000);
+}
+
+TEST_CASE("A callback that rebuilds the pyramid mid-ray: the walk starts again and reports no id twice",
+          "[raycast][reentrant]")
+{
+    World w(99u);
+    for (int i = 0; i < 500; ++i)
+    {
+        w.Create(w.RandomBox(100.0f));
+    }
+    std::vector<Pair> pairs;
+    w.qt.FindPairs(pairs);
+    const int64_t rebuildsBefore = w.qt.GetStats().rebuilds;
+    RayInput in{{0.0f, 0.0f}, {100.0f, 100.0f}, 1.0f};
+    const SegmentTest segment(in);
+    std::vector<ProxyId> before;
+    for (ProxyId id : w.live)
+    {
+        if (segment.MayCross(w.qt.GetFatBox(id)))
+        {
+            before.push_back(id);
+        }
+    }
+    REQUIRE(before.size() > 10);
+    struct Rebuilder
+    {
+        World* w;
+        std::vector<ProxyId> reported;
+        std::set<ProxyId> created;
+        int calls = 0;
+        static float Callback(void* context, const RayInput&, ProxyId id)
+        {
+            Rebuilder& self = *static_cast<Rebuilder*>(context);
+            self.reported.push_back(id);
+            if (++self.calls == 3)
+            {
+                // doubling the proxy count re-tunes, i.e. rebuilds, the pyramid
+                const int n = int(self.w->live.size()) + 50;
+                for (int i = 0; i < n; ++i)
+                {
+                    self.created.insert(self.w->Create(self.w->RandomBox(300.0f)));
+                }
+            }
+            return -1.0f;
+        }
+    } rebuilder{&w, {}, {}, 0};
+    w.qt.RayCast(in, &Rebuilder::Callback, &rebuilder);
+    REQUIRE(w.qt.GetStats().rebuilds > rebuildsBefore);
+    std::vector<ProxyId> sorted = rebuilder.reported;
+    std::sort(sorted.begin(), sorted.end());
+    REQUIRE(std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end());
+    for (ProxyId id : before)
+    {
+        REQUIRE(std::binary_search(sorted.begin(), sorted.end(), id));
+    }
+}
+
+TEST_CASE("Queries after a mass teleport bring the entries up to date once instead of scanning the queue",
+          "[query][cheap]")
+{
+    const float size = 500.0f;
+    World w(2024u);
+    BruteForceBroadPhase bf;
+    std::vector<ProxyId> ids;
+    for (int i = 0; i < 5000; ++i)
+    {
+        const Box b = w.RandomBox(size);
+        ids.push_back(w.Create(b));
+        REQUIRE(bf.CreateProxy(b, nullptr) == ids.back());
+    }
+    std::vector<Pair> a, b;
+    w.qt.FindPairs(a);
+    bf.FindPairs(b);
+    // Respawn the level: every body teleported (Box2D's SetTransform queues a move per fixture).
+    for (ProxyId id : ids)
+    {
+        const Box to = w.RandomBox(size);
+        w.qt.QueueMove(id, to, Vec2{0.0f, 0.0f});
+        bf.MoveProxy(id, to, Vec2{0.0f, 0.0f});
+    }
+    const int64_t reinsertsBefore = w.qt.GetStats().reinserts;
+    // The first query after the teleport re-places the entries that changed cell (the work the next FindPairs
+    // would do), so that this query and the ones after it read only the cells near them.
+    for (int i = 0; i < 100; ++i)
+    {
+        const Box q = SmallBoxAt(Uniform(w.rng, 0.0f, size), Uniform(w.rng, 0.0f, size), 5.0f);
+        IdCollector x, y;
+        w.qt.Query(q, &IdCollector::Callback, &x);
+        bf.Query(q, &IdCollector::Callback, &y);
+        REQUIRE(x.SortedIds() == y.SortedIds());
+        if (i == 0)
+        {
+            REQUIRE(w.qt.GetStats().reinserts > reinsertsBefore + 1000);
+        }
+    }
+    REQUIRE(w.qt.Validate() == "");
+    // and the pairs of the next step are the stock ones
+    a.clear();
+    b.clear();
+    w.qt.FindPairs(a);
+    bf.FindPairs(b);
+    std::sort(a.begin(), a.end());
+    std::sort(b.begin(), b.end());
+    b.erase(std::unique(b.begin(), b.end()), b.end());
+    REQUIRE(a == b);
+}
+
+TEST_CASE("GetStats beside concurrent const calls that apply queued moves", "[parallel][stats]")
+{
+    // Run under ThreadSanitizer by scripts/race-check.sh ("[parallel]"): GetStats takes the lock under which a
+    // concurrent Query applies the queue, so neither reads what the other writes.
+    World w(5u);
+    std::vector<ProxyId> ids;
+    for (int i = 0; i < 4000; ++i)
+    {
+        ids.push_back(w.Create(w.RandomBox(300.0f)));
+    }
+    std::vector<Pair> pairs;
+    w.qt.FindPairs(pairs);
+    for (int round = 0; round < 20; ++round)
+    {
+        for (ProxyId id : ids)
+        {
+            if (Chance(w.rng, 0.5))
+            {
+                w.qt.QueueMove(id, w.RandomBox(300.0f), Vec2{0.5f, 0.0f});
+            }
+        }
+        const QuadtreeBroadPhase& reader = w.qt;
+        std::atomic<int64_t> found{0};
+        std::thread querying([&] {
+            for (int i = 0; i < 50; ++i)
+            {
+                IdCollector c;
+                reader.Query(Box{float(i), float(i), float(i) + 20.0f, float(i) + 20.0f}, &IdCollector::Callback, &c);
+                found += int64_t(c.ids.size());
+            }
+        });
+        int64_t proxies = 0;
+        for (int i = 0; i < 50; ++i)
+        {
+            proxies += reader.GetStats().proxyCount;
+        }
+        querying.join();
+        REQUIRE(proxies == 50 * 4000);
+        REQUIRE(found.load() >= 0);
+        w.qt.FindPairs(pairs);
+    }
+    REQUIRE(w.qt.Validate() == "");
+}
