@@ -199,7 +199,7 @@ TEST_CASE("b2BroadPhase: unknown and destroyed ids are reported, validation stay
 {
     ErrorLog errors;
     b2BroadPhase bp;
-    bp.SetValidation(true);
+    quadphase::SetValidation(bp, true);
     std::vector<int32> ids;
     for (int i = 0; i < 50; ++i)
     {
@@ -238,7 +238,7 @@ TEST_CASE("b2BroadPhase: unknown and destroyed ids are reported, validation stay
     bp.UpdatePairs(&second);
     CHECK(second.pairs.count({0, 100}) == 1);
     CHECK(second.pairs.count({100, 101}) == 1);
-    const quadphase::ValidationReport report = bp.GetValidator()->Report();
+    const quadphase::ValidationReport report = quadphase::GetValidationReport(bp);
     INFO(report.firstMismatch);
     CHECK(report.mismatches == 0);
     CHECK(report.checks == 2);
@@ -250,7 +250,7 @@ TEST_CASE("b2BroadPhase: zero-size AABBs pair exactly and inverted ones are repo
 {
     ErrorLog errors;
     b2BroadPhase bp;
-    bp.SetValidation(true);
+    quadphase::SetValidation(bp, true);
     // zero-size: points, and zero-width and zero-height segments, some exactly on others' borders
     const b2AABB zero[] = {Aabb(0.0f, 0.0f, 0.0f, 0.0f),  Aabb(0.0f, 0.0f, 0.0f, 0.0f),
                            Aabb(1.0f, 0.0f, 1.0f, 2.0f),  Aabb(0.0f, 1.0f, 3.0f, 1.0f),
@@ -278,11 +278,11 @@ TEST_CASE("b2BroadPhase: zero-size AABBs pair exactly and inverted ones are repo
     PairLog moved;
     bp.UpdatePairs(&moved);
     CHECK(errors.Total() == 0);
-    const quadphase::ValidationReport report = bp.GetValidator()->Report();
+    const quadphase::ValidationReport report = quadphase::GetValidationReport(bp);
     INFO(report.firstMismatch);
     CHECK(report.mismatches == 0);
     CHECK(report.checks == 2);
-    bp.SetValidation(false); // the shadow b2DynamicTree has no defined behaviour for inverted boxes
+    quadphase::SetValidation(bp, false); // the shadow b2DynamicTree has no defined behaviour for inverted boxes
 
     // inverted: reported; it pairs with nothing, and the others keep their pairs
     errors.Clear();

@@ -66,4 +66,35 @@ const QuadtreeBroadPhase& GetQuadtree(const b2World& world)
     return BroadPhaseOf(world).GetQuadtree();
 }
 
+QuadtreeBroadPhase& GetQuadtree(b2BroadPhase& broadPhase)
+{
+    return broadPhase.GetQuadtree();
+}
+
+const QuadtreeBroadPhase& GetQuadtree(const b2BroadPhase& broadPhase)
+{
+    return broadPhase.GetQuadtree();
+}
+
+void SetValidation(b2BroadPhase& broadPhase, bool enabled)
+{
+    broadPhase.SetValidation(enabled);
+}
+
+bool IsValidating(const b2BroadPhase& broadPhase)
+{
+    return broadPhase.IsValidating();
+}
+
+ValidationReport GetValidationReport(const b2BroadPhase& broadPhase)
+{
+    const ShadowValidator* validator = broadPhase.GetValidator();
+    return validator != nullptr ? validator->Report() : ValidationReport{};
+}
+
+void SetTrace(b2BroadPhase& broadPhase, Trace* trace)
+{
+    broadPhase.SetTrace(trace);
+}
+
 } // namespace quadphase

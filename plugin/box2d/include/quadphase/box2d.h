@@ -39,4 +39,21 @@ void SetTrace(b2World& world, Trace* trace);
 /// The world's quadtree, for drawing and inspection. Valid while the world lives.
 const QuadtreeBroadPhase& GetQuadtree(const b2World& world);
 
+// The same for a b2BroadPhase used on its own (tests, fuzzing, programs that drive the broadphase directly).
+// b2BroadPhase declares only stock Box2D 2.4.1's members, so its extras are these free functions.
+
+/// The broadphase's quadtree. Valid while the broadphase lives.
+QuadtreeBroadPhase& GetQuadtree(b2BroadPhase& broadPhase);
+const QuadtreeBroadPhase& GetQuadtree(const b2BroadPhase& broadPhase);
+
+/// Validation mode of one broadphase (see SetValidation(b2World&, bool)).
+void SetValidation(b2BroadPhase& broadPhase, bool enabled);
+bool IsValidating(const b2BroadPhase& broadPhase);
+
+/// What validation found; all zero when it is off.
+ValidationReport GetValidationReport(const b2BroadPhase& broadPhase);
+
+/// Records every later call of the broadphase into `trace` (nullptr stops).
+void SetTrace(b2BroadPhase& broadPhase, Trace* trace);
+
 } // namespace quadphase
