@@ -110,6 +110,30 @@ float Percentile(std::vector<float>& values, double p)
     return values[k];
 }
 
+// The range of `values` without its far outliers: from the lo to the hi percentile, widened to the extreme values
+// that lie within a tenth of that span beyond it. The percentiles keep a few bodies flung far away from stretching
+// the grid; the widening keeps the dense edge of a distribution (bodies piled against a container's walls) inside,
+// where the percentiles alone cut a strip of it off and clamp that strip into the border cells.
+void RobustRange(std::vector<float>& values, double lo, double hi, float& low, float& high)
+{
+    const float a = Percentile(values, lo);
+    const float b = Percentile(values, hi);
+    const float margin = 0.1f * (b - a);
+    low = a;
+    high = b;
+    for (float v : values)
+    {
+        if (v < low && v >= a - margin)
+        {
+            low = v;
+        }
+        if (v > high && v <= b + margin)
+        {
+            high = v;
+        }
+    }
+}
+
 } // namespace
 
 void QuadtreeBroadPhase::CheckBox(const Box& b, const char* call, ProxyId id)
@@ -956,8 +980,9 @@ bool QuadtreeBroadPhase::NeedsRetune() const
 
 // The automatic rule (docs/design.md, "Automatic depth and bounds"):
 // - bounds: the box holding the centres of the proxies' fat boxes, from the 1st to the 99th percentile on each
-//   axis when there are at least 200 proxies (so a few far-away bodies do not stretch the grid), grown on every
-//   side by the median fat-box extent, made square;
+//   axis when there are at least 200 proxies (so a few far-away bodies do not stretch the grid) widened to the
+//   centres within a tenth of that span beyond it (RobustRange), grown on every side by the median fat-box extent,
+//   made square around its centre;
 // - depth: the smallest depth whose leaf side is at most cellToProxyRatio x the median fat-box extent, capped so
 //   that the deepest level has at most 2 cells per proxy (4^depth <= 2 n) and by maxDepth.
 void QuadtreeBroadPhase::Retune()
@@ -1001,11 +1026,15 @@ void QuadtreeBroadPhase::Retune()
         {
             const double lo = cx.size() >= 200 ? 0.01 : 0.0;
             const double hi = cx.size() >= 200 ? 0.99 : 1.0;
-            const float x0 = Percentile(cx, lo), x1 = Percentile(cx, hi);
-            const float y0 = Percentile(cy, lo), y1 = Percentile(cy, hi);
-            originX = x0 - medianExtent;
-            originY = y0 - medianExtent;
+            float x0, x1, y0, y1;
+            RobustRange(cx, lo, hi, x0, x1);
+            RobustRange(cy, lo, hi, y0, y1);
+            // Made square around the centre of the percentile box, not from its lower corner: the extra room goes
+            // to both sides of the shorter axis, where bodies are as likely to go (rain: the container below the
+            // spawn rows was outside bounds that grew upward only, and the bodies piling in it crowded the border).
             side = std::max(x1 - x0, y1 - y0) + 2.0f * medianExtent;
+            originX = 0.5f * x0 + 0.5f * x1 - 0.5f * side;
+            originY = 0.5f * y0 + 0.5f * y1 - 0.5f * side;
         }
     }
     else
