@@ -239,16 +239,21 @@ void QuadtreeBroadPhase::QueueMoveSlow(ProxyId id, const Box& tight, Vec2 displa
     }
     if (m_queuedCount == m_queued.size())
     {
-        // Grows by doubling up to kQueueChunk, so a small world holds a small queue.
-        m_queued.resize(std::min(kQueueChunk, std::max<size_t>(64, 2 * m_queued.size())));
-        UpdateFastRoom();
+        // Full. Grows by doubling up to QueueLimit(), so a small world holds a small queue; at the limit, the
+        // queue is applied (in parallel when large) and refilled.
+        const size_t limit = QueueLimit();
+        if (m_queued.size() < limit)
+        {
+            m_queued.resize(std::min(limit, std::max<size_t>(64, 2 * m_queued.size())));
+            UpdateFastRoom();
+        }
+        else
+        {
+            ApplyQueued(ChunkThreads());
+        }
     }
     m_queued[m_queuedCount++] = QueuedMove{tight, displacement, id};
     m_hasQueued.store(true, std::memory_order_release);
-    if (m_queuedCount >= kQueueChunk)
-    {
-        ApplyQueued(ChunkThreads());
-    }
     if (m_timing)
     {
         m_counters.updateSeconds += SecondsSince(start);
@@ -394,6 +399,14 @@ void QuadtreeBroadPhase::ApplyQueued(int threads)
     }
     m_queuedCount = 0;
     m_hasQueued.store(false, std::memory_order_release);
+    if (m_queued.size() > 2 * QueueLimit())
+    {
+        // The world shrank: so does the queue (and the per-thread lists sized from it).
+        std::vector<QueuedMove>(QueueLimit()).swap(m_queued);
+        UpdateFastRoom();
+        m_threadLists.clear();
+        m_threadLists.shrink_to_fit();
+    }
     NoteStale();
     m_counters.updateSeconds += SecondsSince(start);
 }

@@ -136,14 +136,21 @@ public:
     std::string Validate() const;
 
 private:
+    // 12 bytes per proxy: the level and the outside flag share a word with the cell index (a pyramid of depth
+    // kMaxDepth has 22.4 million cells, under the 2^25 that 26 signed bits hold).
     struct Location
     {
-        int32_t cell = -1;      // index into m_store (all levels), -1 when not stored
+        Location()
+            : cell(-1), level(-1), outside(0)
+        {
+        }
+        int32_t cell : 26;      // index into m_store (all levels), -1 when not stored
+        int32_t level : 5;      // -1 when not stored
+        uint32_t outside : 1;
         int32_t slot = -1;      // index of the entry in that cell
         int32_t levelSlot = -1; // index in m_levelProxies[level]
-        int8_t level = -1;
-        bool outside = false;
     };
+    static_assert(sizeof(Location) == 12, "Location packs into three words");
 
     int32_t CoordX(float x) const
     {
