@@ -658,8 +658,9 @@ def step_section(d, by, plots):
     L = ["## 1. In-engine step benchmark", ""]
     if "step" in plots:
         L += [f"![stock / quadtree time per scene]({plots['step']})", ""]
+    ccd = {r.get("continuous") for r in d["step"]}
     L += ["Medians over rounds of each run's median step (ms), at Box2D's defaults: continuous collision "
-          f"{'on' if all(r.get('continuous') for r in d['step']) else 'as the CCD column says'}, the quadtree's "
+          f"{'on' if ccd == {1} else 'off' if ccd == {0} else 'not recorded or mixed'}, the quadtree's "
           "default Config with OMP_NUM_THREADS=1 (1t) and 2 (2t). *bp share* = stock's b2Profile::broadphase ÷ "
           "step: where it is small, no broadphase can change the step much. Contacts and new pairs must match "
           "between the builds (same simulation).", ""]

@@ -24,19 +24,19 @@ class Runner:
                 sys.exit(f"{who}: {tool} not found in {bin_dir}; run the script's .sh driver (it builds them)")
         os.makedirs(work, exist_ok=True)
         self.traces = traces or os.path.join(work, "traces")
-        os.makedirs(self.traces, exist_ok=True)
         self.jsonl = os.path.join(work, name + ".jsonl")
         self.log = open(os.path.join(work, name + ".log"), "a" if append else "w")
         if os.path.exists(self.jsonl) and not append:
             os.remove(self.jsonl)
 
     def run(self, tool, *argv, ok_codes=(0,), env=None):
+        """Runs a tool (env: variables to set, None to unset); exits on a code not in ok_codes."""
         cmd = [os.path.join(self.bin, tool)] + [str(a) for a in argv]
-        self.log.write(("" if not env else " ".join(f"{k}={v}" for k, v in env.items()) + " ")
+        self.log.write(("" if not env else " ".join(f"{k}={v}" for k, v in env.items() if v is not None) + " ")
                        + "$ " + " ".join(cmd) + "\n")
         self.log.flush()
-        p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                           env=dict(os.environ, **env) if env else None)
+        full_env = {k: v for k, v in dict(os.environ, **env).items() if v is not None} if env else None
+        p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=full_env)
         self.log.write(p.stdout)
         self.log.flush()
         if p.returncode not in ok_codes:
@@ -67,6 +67,7 @@ class Runner:
 
     def record(self, scene, size, warmup, steps):
         """The trace of (scene, size, seed, warm-up, steps), recorded with qp-record unless a matching one exists."""
+        os.makedirs(self.traces, exist_ok=True)
         path = os.path.join(self.traces, f"{scene}-{size}-w{warmup}-s{steps}-seed{self.seed}.qptrace")
         want = {"scene": scene, "size": str(size), "seed": str(self.seed), "warmup": str(warmup), "steps": str(steps)}
         if not self.rerecord and os.path.exists(path) and os.path.exists(path + ".steps"):
