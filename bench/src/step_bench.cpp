@@ -21,8 +21,8 @@
 // the spawn grid reaches the floor), "resting" once fewer than 5% are
 // awake and faster than 0.5 m/s, "piling" in between. A step's phase never goes back (falling, piling, resting in
 // that order), so each phase is one range of steps; the line gives each phase's first step, step count and the
-// medians of b2Profile step and broadphase over its steps. Both builds simulate the same world bit for bit, so
-// their ranges are equal (bench.py checks).
+// medians of b2Profile step and broadphase over its steps. The builds create new contacts in different orders
+// (equally valid), so their simulations, and their phases' ranges, may drift apart.
 //
 // b2Profile::broadphase is the time b2World::Solve spends after the solver synchronising fixtures (MoveProxy
 // of every awake body's proxies) and in FindNewContacts (UpdatePairs, its AddPair callbacks creating
