@@ -525,7 +525,7 @@ def markdown(info, data, levels, plots):
          f"Profile **{info['profile']}** (`bench/run.sh{' --full' if info['profile'] == 'full' else ''}"
          f"{' --opt both' if len(levels) > 1 else ''}`), {info['rounds']} rounds, medians over rounds; produced by "
          f"`bench/bench.py` in {info['timing'].get('total_s', 0) / 60:.1f} min. What each number means: "
-         "[bench/README.md](README.md#benchmarks-of-issue-4-benchrunsh). Raw data: "
+         "[bench/README.md](README.md#benchmarks-of-issues-4-16-and-19-benchrunsh). Raw data: "
          "[step.csv](results/step.csv), [phases.csv](results/phases.csv), [replay.csv](results/replay.csv), "
          "[queries.csv](results/queries.csv), [circles.csv](results/circles.csv), [bench.json](results/bench.json)."]
     if info.get("scale", 1.0) != 1.0:

@@ -1034,40 +1034,15 @@ def analysis_e(rows):
     out.append("")
     worst_share = max(r["share"] for r in rows)
     best_share = min(r["share"] for r in rows)
-    out.append("**How the design should scale to 16 cores, and what limits it:**\n")
-    deferred = any(r.get("r1", 0) > 0 for r in rows)
-    out.append(f"- **Serial MoveProxy calls (Amdahl).** Box2D calls MoveProxy one proxy at a time, so the work "
-               f"outside UpdatePairs is serial: m = {fmt(100 * best_share, 0)}–{fmt(100 * worst_share, 0)}% of the "
-               f"1-thread step here, and no thread count can beat {fmt(1 / worst_share, 1)}–"
-               f"{fmt(1 / best_share, 1)}×; the solid curves flatten well before 16 threads. "
-               + ("This overstates the serial part of the measured core: the adapter's MoveProxy only appends "
-                  "the move to a queue, and the queue is applied (fat-box rule, in-cell rewrite) on all threads every "
-                  "8192 moves and by FindPairs, so the serial rest of m is the append, the per-call overhead and the "
-                  "replay loop (null engine, (d)); the cell changes run batched inside FindPairs, on one thread "
-                  "(a parallel version was slower on this machine: docs/design.md, \"Grid maintenance\"), and "
-                  "become a serial part of s at higher thread counts. The whole-work Karp–Flatt fraction of (b) is "
-                  "the better gauge. "
-                  "Shrinking it further needs the caller to hand over a step's moves in bulk (Box2D's "
-                  "b2Body::SynchronizeFixtures loop), not a change inside the broadphase."
-                  if deferred else
-                  "In the measured core, MoveProxy also updates the cells, one proxy at a time. Deferring those "
-                  "updates to the next FindPairs and applying them in parallel (cell strips owned per thread, or a "
-                  "parallel counting sort of the moved proxies, in a fixed order so the result stays deterministic) "
-                  "moves most of m into the parallel part: towards the dashed curves."))
-    out.append("- **The join and the move-buffer hand-off.** FindPairs takes the move buffer and concatenates the "
-               "per-block vectors on one thread: O(buffered + pairs), small at 2 threads but a constant that does "
-               "not shrink with p, so it becomes a visible part of s at 16 (a parallel prefix sum over the block "
-               "sizes and a parallel copy remove the join).")
-    out.append("- **Memory.** A query is a handful of random cell reads; at these sizes the cell array outgrows the "
-               "per-core L2, so queries are latency-bound, not bandwidth-bound (a step reads a few MB of cells: "
-               "well under 1 GB/s at these step times). More cores add outstanding misses, which helps until the "
-               "shared L3 and memory controllers saturate; expect the curve to bend below Amdahl's before 16, and "
-               "SMT siblings (which share L1/L2) to add little.")
-    out.append("- **Block granularity.** Blocks are 64 queries whatever the thread count (that is what keeps the "
-               "output identical). The main call of these scenes has hundreds of blocks (table), enough for 16 "
-               "threads; a call with 2,000 buffered proxies has 32 blocks, 2 per thread at 16 threads, so one "
-               "block of imbalance costs up to a third, and below the threshold the call is serial anyway. Mid-size "
-               "scenes at high thread counts would want smaller blocks or dynamic scheduling.")
+    out.append(f"**How the design should scale to 16 cores, and what limits it** (the join, memory and block "
+               f"granularity: bench/README.md, section (e)): Box2D calls MoveProxy one proxy at a time, so the work "
+               f"outside UpdatePairs is m = {fmt(100 * best_share, 0)}–{fmt(100 * worst_share, 0)}% of the 1-thread "
+               f"step here, and were it all serial no thread count could beat {fmt(1 / worst_share, 1)}–"
+               f"{fmt(1 / best_share, 1)}×. This overstates the serial part: the adapter's MoveProxy only appends the "
+               "move to a queue, applied on all threads every 8192 moves and by FindPairs; the serial rest of m is "
+               "the append, the per-call overhead and the replay loop (null engine, (d)); the cell changes run "
+               "batched inside FindPairs on one thread (docs/design.md, \"Grid maintenance\"). The whole-work "
+               "Karp–Flatt fraction of (b) is the better gauge.")
     out.append("")
     return "\n".join(out)
 

@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "quadphase/trace.h"
+#include "heap_bytes.h"
 #include "step_index.h"
 #include "tool_common.h"
 
@@ -413,6 +414,43 @@ inline void AddRun(JsonLine& j, const RunResult& r)
         .Array("steps_calls", calls)
         .Array("steps_pairs", pairs)
         .Array("steps_ops", opsCount);
+}
+
+/// The timed runs of qp-replay-stock and qp-replay-others: `repeats` replays, each of a fresh engine from make();
+/// one JSON line per run (base(j, "run"), the run's heap bytes per proxy as heap_bytes.h measures them, extra(j,
+/// engine), the per-step arrays), a line per run and the median on stdout.
+template <typename Make, typename Base, typename Extra>
+void TimedRuns(const LoadedTrace& loaded, const char* name, int repeats, const std::string& jsonPath, Make make,
+               Base base, Extra extra)
+{
+    std::vector<double> ms;
+    for (int r = 0; r < repeats; ++r)
+    {
+        const int64_t heap0 = HeapBytes();
+        auto engine = make();
+        const RunResult result = Replay(loaded, *engine);
+        const int64_t heap = HeapBytes() - heap0; // what the engine holds after the whole trace
+        const double perProxy = double(heap) / std::max(1, engine->ProxyCount());
+        JsonLine j;
+        base(j, "run");
+        j.Int("rep", r).Int("heap_bytes", heap).Int("proxies_end", engine->ProxyCount()).Num("bytes_per_proxy", perProxy);
+        extra(j, *engine);
+        AddRun(j, result);
+        AppendLine(jsonPath, j.Text());
+        double total = 0, proxies = 0;
+        for (const StepSample& s : result.steps)
+        {
+            total += double(s.ns);
+            proxies += s.proxies;
+        }
+        ms.push_back(total / loaded.steps.steps * 1e-6);
+        std::printf("%s rep %d: %.3f ms/step, %.1f ns/proxy/step, %.0f bytes/proxy\n", name, r, ms.back(),
+                    total / std::max(1.0, proxies), perProxy);
+    }
+    if (!ms.empty())
+    {
+        std::printf("%s: median %.3f ms/step\n", name, Median(ms));
+    }
 }
 
 } // namespace qpbench
