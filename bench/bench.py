@@ -513,6 +513,11 @@ def figures(res, d):
     return plots
 
 
+def section(title, plots, key, alt, intro):
+    """A section's title, its plot (when drawn) and its introduction."""
+    return [title, ""] + ([f"![{alt}]({plots[key]})", ""] if key in plots else []) + [intro, ""]
+
+
 def met(ok):
     return "met" if ok else ("not met" if ok is False else "n/a")
 
@@ -655,15 +660,12 @@ def headline(d, by, rp, level):
 def step_section(d, by, plots):
     if not d["step"]:
         return []
-    L = ["## 1. In-engine step benchmark", ""]
-    if "step" in plots:
-        L += [f"![stock / quadtree time per scene]({plots['step']})", ""]
     ccd = {r.get("continuous") for r in d["step"]}
-    L += ["Medians over rounds of each run's median step (ms), at Box2D's defaults: continuous collision "
+    L = section("## 1. In-engine step benchmark", plots, "step", "stock / quadtree time per scene", "Medians over rounds of each run's median step (ms), at Box2D's defaults: continuous collision "
           f"{'on' if ccd == {1} else 'off' if ccd == {0} else 'not recorded or mixed'}, the quadtree's "
           "default Config with OMP_NUM_THREADS=1 (1t) and 2 (2t). *bp share* = stock's b2Profile::broadphase ÷ "
           "step: where it is small, no broadphase can change the step much. Contacts and new pairs must match "
-          "between the builds (same simulation).", ""]
+          "between the builds (same simulation).")
     rows = []
     cases = sorted({(r["scene"], r["size"]) for r in d["step"]})
     for s, n in cases:
@@ -737,14 +739,12 @@ def phase_section(data, levels):
 def replay_section(d, rp, plots):
     if not d["replay"]:
         return []
-    L = ["## 2. Broadphase replay (identical trace)", ""]
-    if "replay" in plots:
-        L += [f"![time against N, every broadphase]({plots['replay']})", ""]
-    L += ["Broadphase work per step (every recorded call of the step: Create/Destroy/Move/Touch and UpdatePairs with "
-          "its pair output), medians over rounds. *exact*: the sorted pair set of every UpdatePairs call (warm-up "
-          "included) hashed and compared with stock's. *B/proxy*: heap held by the engine after the trace ÷ live "
-          "proxies. Chipmunk2D and Bullet run under Box2D's protocol (the same fat boxes and move buffer, one query "
-          "per buffered proxy).", ""]
+    L = section("## 2. Broadphase replay (identical trace)", plots, "replay", "time against N, every broadphase",
+                "Broadphase work per step (every recorded call of the step: Create/Destroy/Move/Touch and UpdatePairs with "
+                "its pair output), medians over rounds. *exact*: the sorted pair set of every UpdatePairs call (warm-up "
+                "included) hashed and compared with stock's. *B/proxy*: heap held by the engine after the trace ÷ live "
+                "proxies. Chipmunk2D and Bullet run under Box2D's protocol (the same fat boxes and move buffer, one query "
+                "per buffered proxy).")
     rows = []
     for s, n in sorted({(r["scene"], r["size"]) for r in d["replay"]}):
         a = rp.get((s, n, "stock"))
@@ -774,20 +774,12 @@ def levels_section(data, levels):
          "from the same source with the same flags). Ratios = stock ÷ quadtree.", ""]
     rows = []
     for lv in levels:
-        rp = {(r["scene"], r["size"], r["engine"]): r for r in data[lv]["replay"]}
-        for s, n in sorted({(r["scene"], r["size"]) for r in data[lv]["replay"]}):
-            a = rp.get((s, n, "stock"))
-            if a:
-                rows.append([lv, f"replay {s} {n}", fmt(a["ms_per_step"], 3) + " ms/step"] + [
-                    fmt(ratio(a["ms_per_step"], (rp.get((s, n, e)) or {}).get("ms_per_step"))) + "×"
-                    for e in ("quadtree-1t", "quadtree-2t")])
-        by = {(r["scene"], r["size"], r["engine"]): r for r in data[lv]["step"]}
-        for s, n in sorted({(r["scene"], r["size"]) for r in data[lv]["step"]}):
-            a = by.get((s, n, "stock"))
-            if a:
-                rows.append([lv, f"in-engine bp {s} {n}", fmt(a["broadphase_ms"], 3) + " ms"] + [
-                    fmt(ratio(a["broadphase_ms"], (by.get((s, n, e)) or {}).get("broadphase_ms"))) + "×"
-                    for e in ("quadtree-1t", "quadtree-2t")])
+        for part, what, field, unit in (("replay", "replay", "ms_per_step", " ms/step"),
+                                        ("step", "in-engine bp", "broadphase_ms", " ms")):
+            by = {(r["scene"], r["size"], r["engine"]): r for r in data[lv][part]}
+            rows += [[lv, f"{what} {s} {n}", fmt(a[field], 3) + unit] + [
+                fmt(ratio(a[field], (by.get((s, n, e)) or {}).get(field))) + "×" for e in ("quadtree-1t", "quadtree-2t")]
+                for (s, n, e0), a in sorted(by.items()) if e0 == "stock"]
     return L + table(["opt", "what", "stock", "quadphase 1t", "quadphase 2t"], rows) + [""]
 
 
@@ -819,14 +811,12 @@ def query_section(d):
 def circles_section(d, plots):
     if not d["circles"]:
         return []
-    L = ["## 4. The paper's protocol: circles under 20 ms per frame", ""]
-    if "circles" in plots:
-        L += [f"![circles under 20 ms]({plots['circles']})", ""]
-    L += ["Largest N whose collision detection (broadphase + circle-circle test of the candidates; for stock and "
-          "quadphase also Box2D's persistent pair list) takes under 20 ms per frame, median of 3 repeats; N doubled "
-          "then bisected. Circles r = 0.5 m at area fraction 0.15 (world grows with N), 1–5 m/s. The paper's numbers "
-          "are from its own machines and world (published Tables 1 and 2; brute force 1,360 on its i7-7500U, 2,630 "
-          "on its Ryzen 7 1700; best quadtree 54,000 / 58,900).", ""]
+    L = section("## 4. The paper's protocol: circles under 20 ms per frame", plots, "circles", "circles under 20 ms",
+                "Largest N whose collision detection (broadphase + circle-circle test of the candidates; for stock and "
+                "quadphase also Box2D's persistent pair list) takes under 20 ms per frame, median of 3 repeats; N doubled "
+                "then bisected. Circles r = 0.5 m at area fraction 0.15 (world grows with N), 1–5 m/s. The paper's numbers "
+                "are from its own machines and world (published Tables 1 and 2; brute force 1,360 on its i7-7500U, 2,630 "
+                "on its Ryzen 7 1700; best quadtree 54,000 / 58,900).")
     names = {"pairwise": "brute force (pairwise)", "paper": "paper's design", "stock": "stock b2DynamicTree",
              "quadtree": "quadphase"}
     L += table(["engine", "threads", "depth", "circles (here)", "capped"], [

@@ -1,5 +1,6 @@
 // For the tools compiled twice, against stock Box2D 2.4.1 and against Box2D with the quadtree
-// (quadphase_link_box2d_variant): the variant's name and the one quadphase setting they take from the command line.
+// (quadphase_link_box2d_variant): the variant's name and the one quadphase setting they take from the command
+// line.
 #pragma once
 
 #include <cstdio>
@@ -51,7 +52,8 @@ inline bool ApplyThreads(b2World& world, const std::string& value)
     return true;
 }
 
-/// OMP_NUM_THREADS as a number (0 when unset): what the quadtree's default Config follows; the JSON lines say it.
+/// OMP_NUM_THREADS as a number (0 when unset): what the quadtree's default Config follows; the JSON lines say
+/// it.
 inline int OmpNumThreadsEnv()
 {
     const char* v = std::getenv("OMP_NUM_THREADS");

@@ -1,14 +1,14 @@
-// qp-query-stock / qp-query-quadtree: the query workload of issue 19 at the b2World level. One source, compiled
-// against stock Box2D 2.4.1 and against Box2D with the quadtree (box2d_variant.h); bench/bench.py runs the two
-// alternately, in a new random order every round, and takes medians over the rounds.
+// qp-query-stock / qp-query-quadtree: the query workload of issue 19 at the b2World level. One source,
+// compiled against stock Box2D 2.4.1 and against Box2D with the quadtree (box2d_variant.h); bench/bench.py
+// runs the two alternately, in a new random order every round, and takes medians over the rounds.
 //
 //   qp-query-<variant> [--bodies 50000] [--world 1000] [--queries 2000] [--query-size 2] [--short-rays 2000]
 //                      [--short-length 10] [--long-rays 200] [--teleport 37500] [--teleport-queries 2000]
 //                      [--repeats 3] [--seed 1] [--threads T|default] [--json FILE] [--label TEXT]
 //
-// The world: no gravity, --bodies sleeping dynamic bodies, one box each (half sides 0.25-1 m, random angle) at
-// uniform random positions over a --world metres square, stepped once so that both builds start from a world
-// whose broadphase has no pending move. Fixture user data = the body's index (its id in the hashes).
+// The world: no gravity, --bodies sleeping dynamic bodies, one box each (half sides 0.25-1 m, random angle)
+// at uniform random positions over a --world metres square, stepped once so that both builds start from a
+// world whose broadphase has no pending move. Fixture user data = the body's index (its id in the hashes).
 //
 // Workloads, each timed as a whole (one clock-read pair around all its queries), --repeats times in a row:
 //   aabb_small          --queries QueryAABBs, squares of side --query-size at random centres, every hit kept;
@@ -16,14 +16,16 @@
 //   ray_axis_{all,closest}   --long-rays rays across the whole world, half horizontal, half vertical;
 //   ray_diag_{all,closest}   --long-rays rays from one corner's side to the opposite corner, both diagonals;
 //   teleport            SetTransform of --teleport bodies to random positions, then --teleport-queries small
-//                       QueryAABBs, timed together (stock moves its tree in SetTransform; a queue pays later);
+//                       QueryAABBs, timed together (stock moves its tree in SetTransform; a queue pays
+//                       later);
 //   teleport_step       the b2World::Step after it (the new pairs of the moved proxies), timed alone.
 // "all" callbacks return 1 (every fixture the ray touches); "closest" ones return the hit's fraction (Box2D's
 // closest-hit idiom: the ray is clipped as it goes).
 //
-// Exactness: after the timed loop, each query's hits are sorted by fixture id and hashed (FNV-1a 64); a closest-hit
-// ray is hashed as (fixture id or -1, fraction's bits). A workload's hash combines its queries' hashes in order, over
-// every repeat; bench.py checks that both builds give the same hash and hit count for every workload.
+// Exactness: after the timed loop, each query's hits are sorted by fixture id and hashed (FNV-1a 64); a
+// closest-hit ray is hashed as (fixture id or -1, fraction's bits). A workload's hash combines its queries'
+// hashes in order, over every repeat; bench.py checks that both builds give the same hash and hit count for
+// every workload.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -42,9 +44,9 @@ using namespace qpbench;
 
 struct Hits
 {
-    std::vector<uint64_t> ids;         // every query's hits, one after the other
-    std::vector<size_t> ends;          // end of each query's hits in ids
-    std::vector<uint64_t> closest;     // closest-hit rays: (id + 1) << 32 | fraction bits
+    std::vector<uint64_t> ids;     // every query's hits, one after the other
+    std::vector<size_t> ends;      // end of each query's hits in ids
+    std::vector<uint64_t> closest; // closest-hit rays: (id + 1) << 32 | fraction bits
     void Clear()
     {
         ids.clear();
@@ -53,7 +55,10 @@ struct Hits
     }
 };
 
-uint64_t FixtureId(b2Fixture* f) { return uint64_t(f->GetUserData().pointer); }
+uint64_t FixtureId(b2Fixture* f)
+{
+    return uint64_t(f->GetUserData().pointer);
+}
 
 class AllQuery : public b2QueryCallback, public b2RayCastCallback
 {
@@ -175,7 +180,8 @@ public:
     }
 
     /// Rays across the whole world, 1 m beyond its edges: horizontal and vertical (axis) or corner to corner,
-    /// alternating the two diagonals and both directions (diagonal); offsets along the edge up to 5% of the side.
+    /// alternating the two diagonals and both directions (diagonal); offsets along the edge up to 5% of the
+    /// side.
     std::vector<Ray> LongRays(long n, bool diagonal)
     {
         std::uniform_real_distribution<float> along(0.0f, m_size), offset(0.0f, 0.05f * m_size);
@@ -192,7 +198,8 @@ public:
             else
             {
                 const float o = offset(m_rng);
-                r = i % 2 == 0 ? Ray{b2Vec2(lo, lo + o), b2Vec2(hi, hi - o)} : Ray{b2Vec2(lo, hi - o), b2Vec2(hi, lo + o)};
+                r = i % 2 == 0 ? Ray{b2Vec2(lo, lo + o), b2Vec2(hi, hi - o)}
+                               : Ray{b2Vec2(lo, hi - o), b2Vec2(hi, lo + o)};
             }
             if (i % 4 >= 2)
             {
@@ -271,9 +278,9 @@ private:
 int main(int argc, char** argv)
 {
     const Args args(argc, argv, {"help"});
-    const std::vector<std::string> problems =
-        args.Problems({"bodies", "world", "queries", "query-size", "short-rays", "short-length", "long-rays",
-                       "teleport", "teleport-queries", "repeats", "seed", "threads", "json", "label", "help"});
+    const std::vector<std::string> problems = args.Problems(
+        {"bodies", "world", "queries", "query-size", "short-rays", "short-length", "long-rays", "teleport",
+         "teleport-queries", "repeats", "seed", "threads", "json", "label", "help"});
     const long repeats = args.GetInt("repeats", 3);
     if (args.Has("help") || !problems.empty() || repeats < 1 || args.GetInt("bodies", 50000) < 1 ||
         args.GetInt("world", 1000) <= 0)
@@ -282,12 +289,13 @@ int main(int argc, char** argv)
         {
             std::fprintf(stderr, "qp-query-%s: %s\n", kVariant, p.c_str());
         }
-        std::fprintf(stderr,
-                     "usage: qp-query-%s [--bodies 50000] [--world 1000] [--queries 2000] [--query-size 2]\n"
-                     "       [--short-rays 2000] [--short-length 10] [--long-rays 200] [--teleport 37500]\n"
-                     "       [--teleport-queries 2000] [--repeats 3 (>= 1)] [--seed 1] [--threads T|default]\n"
-                     "       [--json FILE] [--label TEXT]\n",
-                     kVariant);
+        std::fprintf(
+            stderr,
+            "usage: qp-query-%s [--bodies 50000] [--world 1000] [--queries 2000] [--query-size 2]\n"
+            "       [--short-rays 2000] [--short-length 10] [--long-rays 200] [--teleport 37500]\n"
+            "       [--teleport-queries 2000] [--repeats 3 (>= 1)] [--seed 1] [--threads T|default]\n"
+            "       [--json FILE] [--label TEXT]\n",
+            kVariant);
         return args.Has("help") ? 0 : 2;
     }
     const uint32_t seed = uint32_t(args.GetInt("seed", 1));
@@ -302,13 +310,15 @@ int main(int argc, char** argv)
     // The inputs are drawn once, before any timing, in the same order in both builds.
     const float querySide = float(args.GetInt("query-size", 2));
     const std::vector<b2AABB> boxes = bench.Boxes(args.GetInt("queries", 2000), querySide);
-    const std::vector<Ray> shortRays = bench.ShortRays(args.GetInt("short-rays", 2000), float(args.GetInt("short-length", 10)));
+    const std::vector<Ray> shortRays =
+        bench.ShortRays(args.GetInt("short-rays", 2000), float(args.GetInt("short-length", 10)));
     const std::vector<Ray> axisRays = bench.LongRays(args.GetInt("long-rays", 200), false);
     const std::vector<Ray> diagRays = bench.LongRays(args.GetInt("long-rays", 200), true);
     const std::vector<b2AABB> teleportBoxes = bench.Boxes(args.GetInt("teleport-queries", 2000), querySide);
 
     std::vector<Workload> work;
-    auto run = [&](const char* name, int64_t queries, auto&& body) {
+    auto run = [&](const char* name, int64_t queries, auto&& body)
+    {
         work.push_back(Workload{name, {}, {}, queries});
         Workload& w = work.back();
         for (long r = 0; r < repeats; ++r)
@@ -326,7 +336,8 @@ int main(int argc, char** argv)
     run("ray_diag_all", int64_t(diagRays.size()), [&](Hits& h) { bench.Cast(diagRays, false, h); });
     run("ray_diag_closest", int64_t(diagRays.size()), [&](Hits& h) { bench.Cast(diagRays, true, h); });
 
-    // Teleport: a new random choice of bodies and places per repeat (drawn before its clock starts), then the step.
+    // Teleport: a new random choice of bodies and places per repeat (drawn before its clock starts), then the
+    // step.
     work.push_back(Workload{"teleport", {}, {}, int64_t(teleportBoxes.size())});
     work.push_back(Workload{"teleport_step", {}, {}, 1});
     const long teleport = args.GetInt("teleport", 37500);
@@ -365,14 +376,17 @@ int main(int argc, char** argv)
         const std::string k = w.name;
         j.Num((k + "_ns").c_str(), double(Median(w.ns)))
             .Int((k + "_queries").c_str(), w.queries)
-            .Int((k + "_hits").c_str(), int64_t(w.hits.ids.size()) + std::count_if(w.hits.closest.begin(),
-                                                                                    w.hits.closest.end(),
-                                                                                    [](uint64_t c) { return c >> 32 != 0; }))
-            .Str((k + "_hash").c_str(), [&] {
-                char buf[24];
-                std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(HashHits(w.hits)));
-                return std::string(buf);
-            }());
+            .Int((k + "_hits").c_str(),
+                 int64_t(w.hits.ids.size()) + std::count_if(w.hits.closest.begin(), w.hits.closest.end(),
+                                                            [](uint64_t c) { return c >> 32 != 0; }))
+            .Str((k + "_hash").c_str(),
+                 [&]
+                 {
+                     char buf[24];
+                     std::snprintf(buf, sizeof buf, "%016llx",
+                                   static_cast<unsigned long long>(HashHits(w.hits)));
+                     return std::string(buf);
+                 }());
         std::printf("%s %-18s %10.3f ms (median of %ld), %lld queries\n", kVariant, w.name.c_str(),
                     double(Median(w.ns)) * 1e-6, repeats, static_cast<long long>(w.queries));
     }

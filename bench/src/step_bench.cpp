@@ -11,18 +11,18 @@
 // solveTOI; milliseconds), the mean contact count, the new pairs per step that reached Box2D's contact filter
 // (the same count in both builds), the process's peak resident memory (VmHWM) and, for the quadtree build,
 // the quadtree's pairs reported, FindPairs time per step (Stats::pairSeconds), heap bytes per proxy
-// (Stats::memoryBytes) and threads. --threads sets quadphase::Config::threads (0: OpenMP's default); "default"
-// leaves the Config as the adapter made it (Box2D's defaults: the thread count follows OMP_NUM_THREADS); the stock
-// build accepts 1 or default. --ccd sets b2World::SetContinuousPhysics (default "scene": as the scene built it;
-// every scene leaves Box2D's default, on); the JSON line says which.
+// (Stats::memoryBytes) and threads. --threads sets quadphase::Config::threads (0: OpenMP's default);
+// "default" leaves the Config as the adapter made it (Box2D's defaults: the thread count follows
+// OMP_NUM_THREADS); the stock build accepts 1 or default. --ccd sets b2World::SetContinuousPhysics (default
+// "scene": as the scene built it; every scene leaves Box2D's default, on); the JSON line says which.
 //
 // Phases (of the timed steps, from the world's state after each step, untimed): with D dynamic bodies,
-// "falling" while fewer than 1% of them touch a static body (nothing has landed yet: in rain, until the bottom row of
-// the spawn grid reaches the floor), "resting" once fewer than 5% are
-// awake and faster than 0.5 m/s, "piling" in between. A step's phase never goes back (falling, piling, resting in
-// that order), so each phase is one range of steps; the line gives each phase's first step, step count and the
-// medians of b2Profile step and broadphase over its steps. The builds create new contacts in different orders
-// (equally valid), so their simulations, and their phases' ranges, may drift apart.
+// "falling" while fewer than 1% of them touch a static body (nothing has landed yet: in rain, until the
+// bottom row of the spawn grid reaches the floor), "resting" once fewer than 5% are awake and faster than 0.5
+// m/s, "piling" in between. A step's phase never goes back (falling, piling, resting in that order), so each
+// phase is one range of steps; the line gives each phase's first step, step count and the medians of
+// b2Profile step and broadphase over its steps. The builds create new contacts in different orders (equally
+// valid), so their simulations, and their phases' ranges, may drift apart.
 //
 // b2Profile::broadphase is the time b2World::Solve spends after the solver synchronising fixtures (MoveProxy
 // of every awake body's proxies) and in FindNewContacts (UpdatePairs, its AddPair callbacks creating
@@ -133,12 +133,13 @@ int main(int argc, char** argv)
         {
             std::fprintf(stderr, "qp-step-%s: %s\n", kVariant, p.c_str());
         }
-        std::fprintf(
-            stderr,
-            "usage: qp-step-%s --scene NAME --size N [--seed S] [--warmup W] [--steps S] [--threads T|default]\n"
-            "       [--ccd scene|on|off] [--json FILE] [--label TEXT]     (--list: scene names and size ranges)\n"
-            "scenes: %s\n",
-            kVariant, scenes::SceneNameList().c_str());
+        std::fprintf(stderr,
+                     "usage: qp-step-%s --scene NAME --size N [--seed S] [--warmup W] [--steps S] [--threads "
+                     "T|default]\n"
+                     "       [--ccd scene|on|off] [--json FILE] [--label TEXT]     (--list: scene names and "
+                     "size ranges)\n"
+                     "scenes: %s\n",
+                     kVariant, scenes::SceneNameList().c_str());
         return args.Has("help") ? 0 : 2;
     }
     const auto sceneId = scenes::ParseSceneName(args.Get("scene"));

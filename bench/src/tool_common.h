@@ -1,5 +1,6 @@
-// Shared by every bench tool (replays, in-engine step and query benchmarks, circles): the command line, the clock,
-// medians, the machine line, FNV-1a hashes, peak memory and JSON lines. Nothing here knows a broadphase.
+// Shared by every bench tool (replays, in-engine step and query benchmarks, circles): the command line, the
+// clock, medians, the machine line, FNV-1a hashes, peak memory and JSON lines. Nothing here knows a
+// broadphase.
 #pragma once
 
 #include <algorithm>
@@ -273,7 +274,6 @@ T Median(std::vector<T> v)
     const size_t n = v.size();
     return n % 2 == 1 ? v[n / 2] : T((v[n / 2 - 1] + v[n / 2]) / 2);
 }
-
 
 /// FNV-1a 64 over the 8 bytes of each value, in order (pair-set and query-hit hashes).
 inline uint64_t Fnv1a64(const std::vector<uint64_t>& values, uint64_t h = 1469598103934665603ull)
