@@ -95,7 +95,7 @@ TOOLS = ("qp-record", "qp-replay", "qp-replay-stock", "qp-replay-others", "qp-st
 
 def parse_args():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--full", action="store_true", help="the full profile (~30 min on 2 cores per level); default quick")
+    ap.add_argument("--full", action="store_true", help="full profile (~30 min on 2 cores per level); default quick")
     ap.add_argument("--build-dir", default=os.path.join(os.path.dirname(HERE), "build-bench"))
     ap.add_argument("--builds", default=None, help="optimisation levels and their build directories, "
                     "LEVEL=DIR,LEVEL=DIR (bench/run.sh --opt sets it); default: --build-dir alone")
@@ -143,7 +143,8 @@ def step_units(runner, args):
     units = []
     for scene, lo, hi, default in (l.split() for l in runner.run("qp-step-stock", "--list")[1].splitlines()):
         lo, hi, default = int(lo), int(hi), int(default)
-        for size in STEP_SIZES[args.profile].get(scene) or ([default] if args.profile == "quick" else [default, 4 * default]):
+        sizes = STEP_SIZES[args.profile].get(scene) or [default] + ([4 * default] if args.full else [])
+        for size in sizes:
             size = min(hi, max(lo, scaled(size, args, lo)))
             units += [("step", scene, size, b, t) for b, t in STEP_ENGINES]
     return list(dict.fromkeys(units))
@@ -300,8 +301,8 @@ def run_circles(runner, args, configs, bar):
         cap = args.circles_seconds if depth is None or engine in ("pairwise", "stock") else args.circles_seconds * 0.4
         # Quick: fewer frames per repeat (still 3 repeats, the paper's rule). Broadphases start at 4,000 circles.
         frames = ["--frames", 10, "--warmup", 20] if args.full else ["--frames", 5, "--warmup", 10]
-        runner.run("qp-circles", "--engine", engine, "--threads", threads, "--depth", "auto" if depth is None else depth,
-                   "--max-seconds", cap, *frames, "--start", 1000 if engine == "pairwise" else 4000,
+        runner.run("qp-circles", "--engine", engine, "--threads", threads, "--depth",
+                   "auto" if depth is None else depth, "--max-seconds", cap, *frames, "--start", 1000 if engine == "pairwise" else 4000,
                    "--precision", 0.05 if args.full else 0.1, "--json", runner.jsonl, "--label", "circles")
         bar.step(f"circles {engine} {threads}t depth {depth or 'auto'}")
 
@@ -362,7 +363,8 @@ def replay_table(replay, checks, paper_checks, traces):
     meta = {t["name"]: t for t in traces}
     for (trace, e), runs in replay.items():
         row = {"trace": trace, "scene": runs[0]["scene"], "size": runs[0]["size"], "engine": e, "rounds": len(runs),
-               "ms_per_step": med([x["step_ns"] * 1e-6 for x in runs]), "proxies_end": meta.get(trace, {}).get("proxies")}
+               "ms_per_step": med([x["step_ns"] * 1e-6 for x in runs]),
+               "proxies_end": meta.get(trace, {}).get("proxies")}
         row.update({k: med([x.get(k) for x in runs]) for k in ("ns_per_proxy_step", "pairs_per_step",
                                                                "bytes_per_proxy", "mean_proxies")})
         c = checks.get((trace, e))
@@ -389,7 +391,8 @@ def query_rows(queries):
         for w, _ in QUERY_WORKLOADS:
             hashes = {r.get(w + "_hash") for r in runs}
             out.append({"workload": w, "engine": name, "rounds": len(runs),
-                        "ms": med([r[w + "_ns"] * 1e-6 for r in runs if w + "_ns" in r]), "queries": runs[0].get(w + "_queries"),
+                        "ms": med([r[w + "_ns"] * 1e-6 for r in runs if w + "_ns" in r]),
+                        "queries": runs[0].get(w + "_queries"),
                         "hits": runs[0].get(w + "_hits"), "hash": ",".join(sorted(h for h in hashes if h)),
                         "same_hits_as_stock": hashes == {ref[w]}, "bodies": runs[0]["bodies"],
                         "teleported": runs[0]["teleported"]})
@@ -459,7 +462,8 @@ def figures(res, d):
             ax.grid(axis="y", alpha=0.3, which="both")
         axes[1].set_xticks(list(range(len(cases))))
         axes[1].set_xticklabels([f"{s} {n}" for s, n in cases], rotation=60, ha="right", fontsize=8)
-        plots["step"] = "results/" + os.path.basename(plot.save(plt, fig, os.path.join(res, "step_ratios.png"), 90))
+        plots["step"] = "results/step_ratios.png"
+        plot.save(plt, fig, os.path.join(res, "step_ratios.png"), 90)
     rows = d["replay"]
     scenes = sorted({r["scene"] for r in rows if len({x["size"] for x in rows if x["scene"] == r["scene"]}) > 1})
     scenes = scenes or sorted({r["scene"] for r in rows})
@@ -477,7 +481,8 @@ def figures(res, d):
             ax.set(xlabel="live proxies", ylabel="broadphase work, ms per step", title=f"replay: {scene}")
             ax.grid(alpha=0.3, which="both")
         axes[0][0].legend(fontsize=7)
-        plots["replay"] = "results/" + os.path.basename(plot.save(plt, fig, os.path.join(res, "replay_scaling.png"), 90))
+        plots["replay"] = "results/replay_scaling.png"
+        plot.save(plt, fig, os.path.join(res, "replay_scaling.png"), 90)
     if d["circles"]:  # 3. the paper's table: circles under 20 ms by depth, here and in the paper
         fig, ax = plt.subplots(figsize=(8.5, 4.8))
         labels = ["4", "5", "6", "7", "8", "9", "auto"]
@@ -490,7 +495,8 @@ def figures(res, d):
         for k, (name, vals) in enumerate(sorted(series.items())):
             xs = [i for i, l in enumerate(labels) if l in vals]
             # A small sideways offset per series, so that equal results stay visible.
-            ax.plot([x + 0.06 * (k - 1.5) for x in xs], [vals[labels[i]] for i in xs], marker="o", label=name + " (here)")
+            ax.plot([x + 0.06 * (k - 1.5) for x in xs], [vals[labels[i]] for i in xs], marker="o",
+                    label=name + " (here)")
         for r in d["circles"]:
             if r["engine"] in ("pairwise", "stock"):
                 ax.axhline(r["n_max"], ls=":", color="gray" if r["engine"] == "pairwise" else "green")
@@ -509,7 +515,8 @@ def figures(res, d):
                title="the paper's protocol: broadphase + circle test under 20 ms")
         ax.grid(alpha=0.3, which="both")
         ax.legend(fontsize=7)
-        plots["circles"] = "results/" + os.path.basename(plot.save(plt, fig, os.path.join(res, "paper_table.png"), 90))
+        plots["circles"] = "results/paper_table.png"
+        plot.save(plt, fig, os.path.join(res, "paper_table.png"), 90)
     return plots
 
 
@@ -568,7 +575,8 @@ def headline(d, by, rp, level):
     replay_cases = sorted({(r["scene"], r["size"]) for r in d["replay"]})
     big = [(s, n) for s, n in replay_cases if (s == "particles" and n >= 50000) or (s == "rain" and n >= 60000)]
     for eng, goal in (("quadtree-1t", 8), ("quadtree-2t", 14)):
-        vals = [(c, replay_ratio(c[0], c[1], eng)) for c in big or [c for c in replay_cases if c[0] in ("particles", "rain")]]
+        cases = big or [c for c in replay_cases if c[0] in ("particles", "rain")]
+        vals = [(c, replay_ratio(c[0], c[1], eng)) for c in cases]
         vals = [(c, v) for c, v in vals if v]
         if vals:
             L.append(f"| replay, {eng.replace('quadtree-', '')}: ≥{goal}× stock on particles 50k–100k, rain 64k | "
@@ -579,7 +587,8 @@ def headline(d, by, rp, level):
               if (replay_ratio(s, n, e) or 2) < 1.0]
     L.append(f"| replay: never slower than stock on any trace | "
              f"{'slower on: ' + ', '.join(slower) if slower else 'faster on every trace'} | {met(not slower)} |")
-    for scene, size, key in (("particles", 50000, "replay_stock_particles50k"), ("rain", 65536, "replay_stock_rain64k")):
+    for scene, size, key in (("particles", 50000, "replay_stock_particles50k"),
+                             ("rain", 65536, "replay_stock_rain64k")):
         if rp.get((scene, size, "stock")):
             L.append(f"| stock replay ≈{REFERENCE[key]} ns/proxy/step on {scene} {size} (reference) | "
                      f"{rp[(scene, size, 'stock')]['ns_per_proxy_step']:.0f} ns | context |")
@@ -594,7 +603,8 @@ def headline(d, by, rp, level):
                      f"{by[('particles', size, 'stock')]['broadphase_ms']:.2f} ms | context |")
     p20 = [c for c in step_cases if c[0] == "particles" and c[1] >= 20000]
     for eng, goal in (("quadtree-1t", 3), ("quadtree-2t", 4)):
-        vals = [(c, step_ratio(c[0], c[1], eng, "broadphase_ms")) for c in p20 or [c for c in step_cases if c[0] == "particles"]]
+        cases = p20 or [c for c in step_cases if c[0] == "particles"]
+        vals = [(c, step_ratio(c[0], c[1], eng, "broadphase_ms")) for c in cases]
         vals = [(c, v) for c, v in vals if v]
         if vals:
             L.append(f"| in-engine broadphase, {eng.replace('quadtree-', '')}: ≥{goal}× on particles 20k+ | "
@@ -792,8 +802,9 @@ def query_section(d):
          f"`qp-query-stock` and `qp-query-quadtree` (one source, two builds): {r0['bodies']:,} sleeping boxes "
          "(half sides 0.25–1 m) over a 1 km square, no gravity, stepped once. Each workload is timed as a whole "
          "(ms for all its queries; median of the tool's repeats, then over the rounds); the quadtree at its default "
-         "Config with OMP_NUM_THREADS=1 and 2. *× stock* = stock ÷ quadtree (> 1: quadphase faster). *hits*: every "
-         "query's fixture ids sorted and hashed, closest-hit rays as (fixture, fraction); *same hits* compares the "
+         "Config with OMP_NUM_THREADS=1 and 2. *× stock* = stock ÷ quadtree (> 1: quadphase faster). *hits*: fixtures reported per "
+         "repeat (closest hit: rays that hit; the step: contacts after it). Every query's fixture ids are sorted and "
+         "hashed, closest-hit rays as (fixture, fraction); *same hits* compares the "
          "hashes with stock's.", ""]
     rows = []
     for w, what in QUERY_WORKLOADS:
