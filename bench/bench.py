@@ -820,6 +820,8 @@ def query_section(d):
 
 
 def circles_section(d, plots):
+    names = {"pairwise": "brute force (pairwise)", "paper": "paper's design", "stock": "stock b2DynamicTree",
+             "quadtree": "quadphase"}
     if not d["circles"]:
         return []
     L = section("## 4. The paper's protocol: circles under 20 ms per frame", plots, "circles", "circles under 20 ms",
@@ -828,8 +830,6 @@ def circles_section(d, plots):
                 "then bisected. Circles r = 0.5 m at area fraction 0.15 (world grows with N), 1–5 m/s. The paper's numbers "
                 "are from its own machines and world (published Tables 1 and 2; brute force 1,360 on its i7-7500U, 2,630 "
                 "on its Ryzen 7 1700; best quadtree 54,000 / 58,900).")
-    names = {"pairwise": "brute force (pairwise)", "paper": "paper's design", "stock": "stock b2DynamicTree",
-             "quadtree": "quadphase"}
     L += table(["engine", "threads", "depth", "circles (here)", "capped"], [
         [names[r["engine"]], r["threads"], r["depth"] if r["engine"] in ("paper", "quadtree") else "–", f"{r['n_max']:,}",
          "yes: time cap, a lower bound" if r["capped"] else ""] for r in d["circles"]])

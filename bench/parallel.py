@@ -404,19 +404,12 @@ def report_all(args, info, jobs, res, mismatches, timing):
         gauge = None
         gauge_find = None
         if twin:
-            fd = []
-            for label, th, sch in rows:
-                x = res.find_ms(res.key(na, cfg(th, sch, "auto")))
-                y = res.find_ms(res.key(na, cfg(th, sch, twin)))
-                if not math.isnan(x) and not math.isnan(y):
-                    fd.append(100.0 * abs(x - y) / min(x, y))
+            def spread(ms):  # % between "auto" and its twin depth, per row of the table
+                pairs = [(ms(res.key(na, cfg(th, sch, "auto"))), ms(res.key(na, cfg(th, sch, twin))))
+                         for _, th, sch in rows]
+                return [100.0 * abs(x - y) / min(x, y) for x, y in pairs if not math.isnan(x) and not math.isnan(y)]
+            fd, diffs = spread(res.find_ms), spread(res.step_ms)
             gauge_find = max(fd) if fd else None
-            diffs = []
-            for label, th, sch in rows:
-                x = res.step_ms(res.key(na, cfg(th, sch, "auto")))
-                y = res.step_ms(res.key(na, cfg(th, sch, twin)))
-                if not math.isnan(x) and not math.isnan(y):
-                    diffs.append(100.0 * abs(x - y) / min(x, y))
             if diffs:
                 gauge = max(diffs)
                 md.append(f"*Noise gauge:* \"auto\" and depth {twin} are the same configuration (same depth, same "
