@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -103,16 +104,19 @@ public:
     }
     long GetInt(const std::string& key, long fallback) const
     {
-        const std::string v = Get(key);
-        if (v.empty())
+        return long(GetNumber(key, double(fallback), true));
+    }
+    double GetDouble(const std::string& key, double fallback) const
+    {
+        return GetNumber(key, fallback, false);
+    }
+    /// GetInt, and exits with a message when the value is outside [lo, hi].
+    long GetIntIn(const std::string& key, long fallback, long lo, long hi) const
+    {
+        const long x = GetInt(key, fallback);
+        if (x < lo || x > hi)
         {
-            return fallback;
-        }
-        char* end = nullptr;
-        const long x = std::strtol(v.c_str(), &end, 10);
-        if (end == v.c_str() || *end != '\0')
-        {
-            std::fprintf(stderr, "--%s: '%s' is not an integer\n", key.c_str(), v.c_str());
+            std::fprintf(stderr, "--%s must be an integer in [%ld, %ld], got %ld\n", key.c_str(), lo, hi, x);
             std::exit(2);
         }
         return x;
@@ -132,6 +136,26 @@ public:
     }
 
 private:
+    /// The option's value as a number (exits with a message when it is not one, or not an integer when
+    /// asked).
+    double GetNumber(const std::string& key, double fallback, bool integer) const
+    {
+        const std::string v = Get(key);
+        if (v.empty())
+        {
+            return fallback;
+        }
+        char* end = nullptr;
+        const double x = integer ? double(std::strtol(v.c_str(), &end, 10)) : std::strtod(v.c_str(), &end);
+        if (end == v.c_str() || *end != '\0' || !std::isfinite(x))
+        {
+            std::fprintf(stderr, "--%s: '%s' is not %s\n", key.c_str(), v.c_str(),
+                         integer ? "an integer" : "a number");
+            std::exit(2);
+        }
+        return x;
+    }
+
     std::vector<std::pair<std::string, std::string>> m_values;
     std::vector<std::string> m_errors;
 };
@@ -206,12 +230,20 @@ public:
         m_s += std::to_string(value);
         return *this;
     }
+    /// A number; null when it is not finite.
     JsonLine& Num(const char* key, double value)
     {
         Key(key);
         char buf[64];
         std::snprintf(buf, sizeof(buf), "%.9g", value);
-        m_s += buf;
+        m_s += std::isfinite(value) ? buf : "null";
+        return *this;
+    }
+    /// A value already written as JSON (null, an object).
+    JsonLine& Raw(const char* key, const std::string& json)
+    {
+        Key(key);
+        m_s += json;
         return *this;
     }
     template <typename T>
