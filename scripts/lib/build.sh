@@ -45,7 +45,7 @@ qp_configure() {
 qp_build() { # no TARGET: the default target
     local targets=()
     [[ $# -gt 1 ]] && targets=(--target "${@:2}")
-    _qp_run build "$1" "building ${*:2} in $1" cmake --build "$1" -j "$QP_JOBS" "${targets[@]}"
+    _qp_run build "$1" "building${2:+ ${*:2}} in $1" cmake --build "$1" -j "$QP_JOBS" "${targets[@]}"
 }
 
 qp_exe() {
