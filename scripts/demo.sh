@@ -25,6 +25,6 @@ cat >&2 <<'MSG'
 
 demo: this was one scene. The benchmark (issue 4) steps every scene in both builds, replays identical broadphase
 demo: traces through stock, quadphase, brute force, the paper's design, Chipmunk2D and Bullet, and runs the paper's
-demo: 20 ms protocol:  bench/run.sh  (quick profile, under 5 minutes; --full for the committed bench/RESULTS.md)
+demo: 20 ms protocol:  bench/run.sh  (quick profile, about 10 minutes; --full for the committed bench/RESULTS.md)
 MSG
 exit "$status"
