@@ -160,3 +160,65 @@ TEST_CASE("std::bad_alloc at any allocation of FindPairs on 2 threads: thrown to
     CHECK(g_failures.load() == thrown);
     CHECK(parallelCalls > 0);
 }
+
+TEST_CASE("std::bad_alloc in CreateProxy, DestroyProxy, ShiftOrigin and Configure: all or nothing", "[alloc]")
+{
+    QuadtreeBroadPhase failing(FatPolicy{}, Config{});
+    QuadtreeBroadPhase twin(FatPolicy{}, Config{});
+    std::mt19937 rng(7u);
+    std::vector<ProxyId> live;
+    long thrown = 0;
+    // Each call is tried with a failure at its 1st, 2nd, ... allocation until it gets through; a call that threw
+    // must have changed nothing (same proxy count, valid), and the twin, which never fails, must end identical.
+    auto attempt = [&](const char* what, auto&& call) {
+        for (long k = 1;; ++k)
+        {
+            const int32_t before = failing.GetProxyCount();
+            Arm(k);
+            try
+            {
+                call();
+                Arm(0);
+                return;
+            }
+            catch (const std::bad_alloc&)
+            {
+                Arm(0);
+                ++thrown;
+                INFO(what << ": failure at allocation " << k << ", proxies " << before);
+                REQUIRE(failing.GetProxyCount() == before);
+                REQUIRE(failing.Validate() == "");
+            }
+            REQUIRE(k < 100000);
+        }
+    };
+    for (int i = 0; i < 3000; ++i)
+    {
+        const Box b = RandomBox(rng, 150.0f);
+        ProxyId id = -1;
+        attempt("CreateProxy", [&] { id = failing.CreateProxy(b, nullptr); });
+        REQUIRE(twin.CreateProxy(b, nullptr) == id);
+        live.push_back(id);
+        if (rng() % 4 == 0)
+        {
+            const size_t k = rng() % live.size();
+            const ProxyId victim = live[k];
+            attempt("DestroyProxy", [&] { failing.DestroyProxy(victim); });
+            twin.DestroyProxy(victim);
+            live.erase(live.begin() + std::ptrdiff_t(k));
+        }
+    }
+    attempt("ShiftOrigin", [&] { failing.ShiftOrigin(Vec2{3.0f, -2.0f}); });
+    twin.ShiftOrigin(Vec2{3.0f, -2.0f});
+    Config coarse;
+    coarse.depth = 3;
+    attempt("Configure", [&] { failing.Configure(coarse); });
+    twin.Configure(coarse);
+    std::vector<Pair> a, b;
+    failing.FindPairs(a);
+    twin.FindPairs(b);
+    CHECK(thrown > 100);
+    REQUIRE(failing.GetProxyCount() == twin.GetProxyCount());
+    REQUIRE(Sorted(a) == Sorted(b));
+    REQUIRE(failing.Validate() == "");
+}

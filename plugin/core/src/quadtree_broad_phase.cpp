@@ -158,15 +158,41 @@ ProxyId QuadtreeBroadPhase::CreateProxy(const Box& tight, void* userData)
     const Clock::time_point start = m_timing ? Clock::now() : Clock::time_point{};
     const Box fat = FattenNew(m_policy, tight);
     ++m_mutations;
+    // std::bad_alloc leaves no trace: the pool, the pyramid and the move buffer each reserve before they change,
+    // and what succeeded is undone (without allocating) when a later step throws.
+    m_pool.ReserveFree();
     const ProxyId id = m_pool.Allocate(fat, userData);
+    try
+    {
+        m_pyramid.Insert(id, fat);
+        try
+        {
+            m_pool.Buffer(id);
+        }
+        catch (...)
+        {
+            m_pyramid.Remove(id);
+            throw;
+        }
+    }
+    catch (...)
+    {
+        m_pool.Free(id);
+        throw;
+    }
     CheckBox(tight, "CreateProxy", id);
-    m_pyramid.Insert(id, fat);
-    m_pool.Buffer(id);
     if (m_pool.LiveCount() >= 2 * m_tunedCount && (m_config.depth < 0 || m_config.autoBounds))
     {
         // Re-tune while a scene is being built, so queries made before the first step are not all in one cell.
-        // Doubling keeps the total rebuild work linear in the number of creations.
-        Retune();
+        // Doubling keeps the total rebuild work linear in the number of creations. The proxy exists from here:
+        // a re-tune that runs out of memory is skipped (it is an optimisation; the next creation tries again).
+        try
+        {
+            Retune();
+        }
+        catch (const std::bad_alloc&)
+        {
+        }
     }
     if (m_timing)
     {
@@ -184,6 +210,7 @@ void QuadtreeBroadPhase::DestroyProxy(ProxyId id)
     ApplyQueuedIfAny(); // the id may be reused by the next CreateProxy: no queued move may outlive its proxy
     const Clock::time_point start = m_timing ? Clock::now() : Clock::time_point{};
     ++m_mutations;
+    m_pool.ReserveFree(); // the only allocation, before any change
     m_pyramid.Remove(id);
     m_pool.Free(id);
     if (m_timing)
@@ -554,8 +581,8 @@ void QuadtreeBroadPhase::UpdateStaleEntries()
     const Clock::time_point start = Clock::now();
     ++m_mutations;
     // Filtered in place (no second array): the live ones are handed to the pyramid. They stay flagged until their
-    // entries are written, so that std::bad_alloc inside UpdateBatch leaves every one listed and flagged (queries
-    // then test their boxes from the list, and the next call writes them).
+    // entries are written, so that std::bad_alloc inside UpdateBatch leaves every one listed and flagged (each
+    // change is all or nothing, and the next call writes the rest).
     size_t kept = 0;
     for (ProxyId id : m_stale)
     {
@@ -935,15 +962,18 @@ void QuadtreeBroadPhase::RayCast(const RayInput& input, RayCastFn fn, void* cont
 void QuadtreeBroadPhase::ShiftOrigin(Vec2 newOrigin)
 {
     ApplyQueuedIfAny(); // queued boxes are in the old frame
-    m_pool.ShiftOrigin(newOrigin);
-    WriteMirrorOfAll();
-    // The world moved, so the region it lives in moves with it.
+    // The world moved, so the region it lives in moves with it. The shifted pyramid is built first (the only
+    // step that allocates), then everything is shifted: std::bad_alloc leaves the old frame intact.
     const Box bounds = m_pyramid.Bounds();
+    Pyramid built = BuildPyramid(bounds.minX - newOrigin.x, bounds.minY - newOrigin.y, bounds.maxX - bounds.minX,
+                                 m_pyramid.Depth(), newOrigin);
+    m_pool.ShiftOrigin(newOrigin); // the same subtraction as BuildPyramid's, so entries and pool agree bit for bit
+    WriteMirrorOfAll();
     m_config.bounds.minX -= newOrigin.x;
     m_config.bounds.minY -= newOrigin.y;
     m_config.bounds.maxX -= newOrigin.x;
     m_config.bounds.maxY -= newOrigin.y;
-    Rebuild(bounds.minX - newOrigin.x, bounds.minY - newOrigin.y, bounds.maxX - bounds.minX, m_pyramid.Depth());
+    CommitRebuild(std::move(built));
 }
 
 void QuadtreeBroadPhase::SetBoxMirror(const BoxMirror& mirror)
@@ -971,8 +1001,17 @@ void QuadtreeBroadPhase::WriteMirrorOfAll()
 void QuadtreeBroadPhase::Configure(const Config& config)
 {
     ApplyQueuedIfAny();
+    const Config previous = m_config;
     m_config = config;
-    Retune();
+    try
+    {
+        Retune();
+    }
+    catch (...)
+    {
+        m_config = previous; // all or nothing
+        throw;
+    }
 }
 
 bool QuadtreeBroadPhase::NeedsRetune() const
@@ -1082,17 +1121,32 @@ void QuadtreeBroadPhase::Retune()
     m_tunedOutside = m_pyramid.OutsideCount();
 }
 
-void QuadtreeBroadPhase::Rebuild(float originX, float originY, float side, int depth)
+Pyramid QuadtreeBroadPhase::BuildPyramid(float originX, float originY, float side, int depth, Vec2 shift) const
 {
-    m_pyramid.Reset(originX, originY, side, depth);
+    // Built beside the current pyramid and swapped in by CommitRebuild: std::bad_alloc half way leaves the current
+    // one intact (the price is both in memory at once, for the length of a rebuild).
+    Pyramid built;
+    built.Reset(originX, originY, side, depth);
     for (ProxyId id = 0; id < m_pool.IdBound(); ++id)
     {
         if (m_pool.IsLive(id))
         {
-            m_pyramid.Insert(id, m_pool.Fat(id));
+            const Box& b = m_pool.Fat(id);
+            built.Insert(id, Box{b.minX - shift.x, b.minY - shift.y, b.maxX - shift.x, b.maxY - shift.y});
         }
     }
-    m_pyramid.Compact(); // cells in row-major order in memory: neighbouring cells are read together
+    built.Compact(); // cells in row-major order in memory: neighbouring cells are read together
+    return built;
+}
+
+void QuadtreeBroadPhase::Rebuild(float originX, float originY, float side, int depth)
+{
+    CommitRebuild(BuildPyramid(originX, originY, side, depth, Vec2{0.0f, 0.0f}));
+}
+
+void QuadtreeBroadPhase::CommitRebuild(Pyramid&& built)
+{
+    m_pyramid.ReplaceWith(std::move(built));
     // Every entry was just written from the current boxes.
     for (ProxyId id : m_stale)
     {

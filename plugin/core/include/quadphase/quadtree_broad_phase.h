@@ -225,6 +225,8 @@ private:
     void WriteMirrorOfAll();
     void Retune();
     void Rebuild(float originX, float originY, float side, int depth);
+    Pyramid BuildPyramid(float originX, float originY, float side, int depth, Vec2 shift) const;
+    void CommitRebuild(Pyramid&& built);
     bool NeedsRetune() const;
     void QueryPairsOf(ProxyId q, std::vector<Pair>& out) const;
     void UpdateStaleEntries();
