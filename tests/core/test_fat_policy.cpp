@@ -5,6 +5,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "quadphase/box_simd.h"
 #include "quadphase/fat_policy.h"
 
 #include "test_support.h"
@@ -308,4 +309,67 @@ TEST_CASE("Refatten: the documented examples", "[fat]")
     Box huge = Box{-10.0f, -10.0f, 10.0f, 10.0f};
     REQUIRE(Refatten(policy, huge, tight, Vec2{0.0f, 0.0f}));
     REQUIRE(SameBox(huge, stored));
+}
+
+TEST_CASE("SIMD fat-box test and overlap test equal the scalar ones bit for bit, special values included", "[fat]")
+{
+    // Values that probe every compare and addition: signed zeros, infinities, NaN, denormals, huge and tiny.
+    const float special[] = {0.0f, -0.0f, 1.0f, -1.0f, 0.1f, -0.1f, 1e-40f, -1e-40f, 3e38f, -3e38f,
+                             std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(),
+                             std::numeric_limits<float>::quiet_NaN(), 1e7f, -1e7f, 0.30000001f};
+    std::mt19937 rng(12345u);
+    auto pick = [&](bool anything) {
+        if (anything && rng() % 4 == 0)
+        {
+            return special[rng() % (sizeof(special) / sizeof(special[0]))];
+        }
+        return std::uniform_real_distribution<float>(-50.0f, 50.0f)(rng);
+    };
+    int64_t kept = 0, changed = 0, overlapping = 0;
+    for (int i = 0; i < 400000; ++i)
+    {
+        const bool anything = i % 2 == 0;
+        FatPolicy policy;
+        if (i % 7 == 0)
+        {
+            policy.extension = pick(anything);
+            policy.multiplier = pick(anything);
+        }
+        Box tight{pick(anything), pick(anything), pick(anything), pick(anything)};
+        if (!anything && tight.minX > tight.maxX)
+        {
+            std::swap(tight.minX, tight.maxX);
+        }
+        if (!anything && tight.minY > tight.maxY)
+        {
+            std::swap(tight.minY, tight.maxY);
+        }
+        // A stored box near the tight one most of the time, so both outcomes are common.
+        Box stored = i % 3 == 0 ? Box{pick(anything), pick(anything), pick(anything), pick(anything)}
+                                : FattenNew(policy, tight);
+        if (i % 3 == 1)
+        {
+            stored.minX -= 0.2f * float(rng() % 3);
+            stored.maxY += 0.2f * float(rng() % 3);
+        }
+        const Vec2 d{i % 5 == 0 ? pick(anything) : std::uniform_real_distribution<float>(-0.3f, 0.3f)(rng),
+                     i % 5 == 1 ? pick(anything) : std::uniform_real_distribution<float>(-0.3f, 0.3f)(rng)};
+        Box a = stored, b = stored;
+        const bool ra = RefattenNoBranch(policy, a, tight, d);
+        const bool rb = RefattenSimd(policy, b, tight, d);
+        INFO("case " << i);
+        REQUIRE(ra == rb);
+        REQUIRE(std::memcmp(&a, &b, sizeof a) == 0);
+        (ra ? changed : kept) += 1;
+
+        const Box q{pick(anything), pick(anything), pick(anything), pick(anything)};
+        const bool oa = Overlaps(stored, q);
+        REQUIRE(oa == OverlapsPrepared(stored, Prepare(q)));
+        overlapping += oa ? 1 : 0;
+    }
+    // Both outcomes of both tests were exercised many times.
+    CHECK(kept > 10000);
+    CHECK(changed > 10000);
+    CHECK(overlapping > 10000);
+    CHECK(overlapping < 390000);
 }

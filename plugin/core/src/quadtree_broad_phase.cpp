@@ -9,6 +9,7 @@
 #include <limits>
 #include <new>
 
+#include "quadphase/box_simd.h"
 #include "quadphase/error.h"
 
 #include <omp.h>
@@ -372,7 +373,7 @@ void QuadtreeBroadPhase::ApplyQueued(int threads)
             const QueuedMove& move = queued[i];
             pool.ClearPending(move.id);
             out[n] = int32_t(i);
-            n += RefattenNoBranch(policy, fat[move.id], move.tight, move.displacement) ? 1 : 0;
+            n += RefattenSimd(policy, fat[move.id], move.tight, move.displacement) ? 1 : 0;
         }
         stale.resize(n);
         int32_t outsideDelta = 0;
@@ -471,8 +472,9 @@ bool QuadtreeBroadPhase::TestOverlap(ProxyId a, ProxyId b) const
 void QuadtreeBroadPhase::QueryPairsOf(ProxyId q, std::vector<Pair>& out) const
 {
     const Box qb = m_pool.Fat(q);
+    const PreparedBox prepared = Prepare(qb);
     m_pyramid.Visit(qb, [&](const Entry& e) {
-        if (e.id != q && Overlaps(e.box, qb))
+        if (OverlapsPrepared(e.box, prepared) && e.id != q)
         {
             // A pair of two buffered proxies is found from both sides; keep it from the smaller id only.
             if (!(e.id > q && m_pool.InWork(e.id)))
@@ -684,8 +686,9 @@ void QuadtreeBroadPhase::Query(const Box& box, QueryFn fn, void* context) const
     // Every candidate is collected before the first callback, so a callback may change the pyramid and the pool
     // (create, destroy, move, even rebuild) without this loop reading what it changed.
     SmallBuffer<ProxyId, 64> hits;
+    const PreparedBox prepared = Prepare(box);
     m_pyramid.Visit(box, [&](const Entry& e) {
-        if (Overlaps(e.box, box))
+        if (OverlapsPrepared(e.box, prepared))
         {
             hits.push_back(e.id);
         }
