@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Parallel pair-generation benchmark of quadphase (run it through bench/parallel.sh, which builds the tools).
 
-One run records the traces (qp-record), checks every replay's pair sets against stock Box2D's (qp-replay-stock
+One run records the traces (qp-record), checks every replay's pair sets against stock Box2D's (qp-replay --engine stock
 hashes) and brute force (small traces), replays them with the timings interleaved (every round runs every
 configuration once, so a noisy phase of the machine hits all of them), and writes
 bench/results/parallel.md, parallel.csv and parallel.png. See bench/README.md for what each number means.
@@ -113,7 +113,7 @@ class Results:
                 self.omp.append(r)
                 continue
             trace = r.get("trace")
-            if r["tool"] == "qp-replay-stock":
+            if r.get("engine") == "stock":
                 key = (trace, "stock")
             elif r.get("engine") == "null":
                 key = (trace, "null")
@@ -122,8 +122,8 @@ class Results:
             if r.get("kind") == "run":
                 self.runs.setdefault(key, []).append(r)
             elif r.get("kind") == "check":
-                (self.stock_checks if r["tool"] == "qp-replay-stock" else self.checks)[
-                    trace if r["tool"] == "qp-replay-stock" else key] = r
+                (self.stock_checks if r.get("engine") == "stock" else self.checks)[
+                    trace if r.get("engine") == "stock" else key] = r
 
     def key(self, trace, c):
         return (trace, "quadtree") + cfg_key(c)
@@ -199,7 +199,7 @@ def main():
     t_start = time.time()
     os.makedirs(args.results, exist_ok=True)
     runner = run.Runner("parallel.py", os.path.join(args.build_dir, "bench"), args.work, "parallel",
-                        tools=("qp-record", "qp-replay", "qp-replay-stock"), seed=args.seed, rerecord=args.rerecord,
+                        tools=("qp-record", "qp-replay"), seed=args.seed, rerecord=args.rerecord,
                         wait_quiet=args.wait_quiet, quiet_cpus=args.quiet_cpus, echo=log)
     log(f"parallel.py: work directory {args.work}; {'full' if args.full else 'quick'} version, "
         f"{args.repeats} timed rounds")
@@ -224,7 +224,7 @@ def main():
     mismatches = {}
     for j in jobs:
         stock_hash, quad_hash = j["trace"] + ".stock.hash", j["trace"] + ".quadtree.hash"
-        runner.run("qp-replay-stock", "--trace", j["trace"], "--repeats", 0, "--check", "first",
+        runner.run("qp-replay", "--engine", "stock", "--trace", j["trace"], "--repeats", 0, "--check", "first",
                    "--hashes-out", stock_hash, "--json", runner.jsonl, "--label", j["section"])
         argv = ["--trace", j["trace"], "--repeats", 0, "--check", j["check"], "--compare-hashes", stock_hash,
                 "--hashes-out", quad_hash, "--json", runner.jsonl, "--label", j["section"]]
@@ -258,7 +258,7 @@ def main():
         for j in jobs:
             common = ["--trace", j["trace"], "--repeats", j.get("inner", 1), "--check", "none", "--json",
                       runner.jsonl, "--label", f"{j['section']}|round={r}"]
-            runner.run("qp-replay-stock", *common)
+            runner.run("qp-replay", "--engine", "stock", *common)
             per_call = ["--per-call"] if j.get("per_call") else []
             # The configurations run in a different (seeded) random order in every round, so a burst of other
             # activity on the machine does not always hit the same neighbours.
