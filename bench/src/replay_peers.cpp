@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "box2d/b2_broad_phase.h"
+#include "core_engine.h"
 #include "paper_quadtree.h"
 #include "peer_indexes.h"
 #include "quadphase/brute_force_broad_phase.h"
@@ -87,45 +88,6 @@ private:
     PairList m_pairs;
 };
 
-/// Engines behind quadphase::BroadPhaseInterface (brute force, the paper's design, the core as a reference).
-template <typename BP>
-class InterfaceEngine
-{
-public:
-    template <typename... A>
-    explicit InterfaceEngine(A&&... a) : m_bp(std::forward<A>(a)...)
-    {
-    }
-    int32_t Create(const Box& tight, int32_t recorded)
-    {
-        return m_bp.CreateProxy(tight, reinterpret_cast<void*>(intptr_t(recorded)));
-    }
-    void Destroy(int32_t id) { m_bp.DestroyProxy(id); }
-    void Move(int32_t id, const Box& tight, Vec2 d) { m_bp.MoveProxy(id, tight, d); }
-    void Touch(int32_t id) { m_bp.TouchProxy(id); }
-    void UpdatePairs()
-    {
-        m_pairs.clear();
-        m_bp.FindPairs(m_pairs);
-    }
-    void ShiftOrigin(Vec2 o) { m_bp.ShiftOrigin(o); }
-    int32_t ProxyCount() const { return m_bp.GetProxyCount(); }
-    size_t PairCount() const { return m_pairs.size(); }
-    void PairKeys(std::vector<uint64_t>& keys) const
-    {
-        for (const quadphase::Pair& p : m_pairs)
-        {
-            keys.push_back(
-                PairKey(int32_t(intptr_t(m_bp.GetUserData(p.a))), int32_t(intptr_t(m_bp.GetUserData(p.b)))));
-        }
-    }
-    void BeginTimedSteps() {}
-
-private:
-    BP m_bp;
-    std::vector<quadphase::Pair> m_pairs;
-};
-
 /// The paper's design beside the quadtree core (exact): counts, per call, the pairs it misses, repeats or adds.
 class PaperChecked
 {
@@ -178,8 +140,8 @@ private:
         c.threads = 1; // the reference need not be fast; one thread keeps it off a busy machine's other core
         return c;
     }
-    InterfaceEngine<quadphase::bench::PaperQuadtreeBroadPhase> m_paper;
-    InterfaceEngine<quadphase::QuadtreeBroadPhase> m_ref;
+    CoreEngine<quadphase::bench::PaperQuadtreeBroadPhase> m_paper;
+    CoreEngine<quadphase::QuadtreeBroadPhase> m_ref;
     std::vector<int32_t> m_refId;
 };
 
@@ -242,32 +204,55 @@ struct FatBoxes
     }
 };
 
+/// Fat boxes beside a foreign index that holds the same boxes (both modes).
+template <typename Index>
+struct Indexed
+{
+    template <typename... A>
+    explicit Indexed(A&&... a) : index(&b.fat, std::forward<A>(a)...)
+    {
+    }
+    int32_t Insert(const Box& tight, int32_t recorded)
+    {
+        const int32_t id = b.Add(tight, recorded);
+        index.Insert(id, b.fat[size_t(id)]);
+        return id;
+    }
+    void Erase(int32_t id) { index.Remove(id), b.Remove(id); }
+    /// Box2D's fat-box test; re-indexes and returns true when the fat box changed.
+    bool Refit(int32_t id, const Box& tight, Vec2 d)
+    {
+        const bool changed = quadphase::Refatten(b.policy, b.fat[size_t(id)], tight, d);
+        if (changed)
+        {
+            index.Update(id, b.fat[size_t(id)]);
+        }
+        return changed;
+    }
+    FatBoxes b;
+    Index index;
+};
+
 /// Box2D's protocol over a foreign index (see the file comment), or, with Index::kOracle, over no index at all.
 template <typename Index>
 class ProtocolEngine
 {
 public:
     template <typename... A>
-    explicit ProtocolEngine(A&&... a) : m_index(&m_b.fat, std::forward<A>(a)...)
+    explicit ProtocolEngine(A&&... a) : m_x(std::forward<A>(a)...)
     {
     }
     int32_t Create(const Box& tight, int32_t recorded)
     {
-        const int32_t id = m_b.Add(tight, recorded);
-        m_index.Insert(id, m_b.fat[size_t(id)]);
+        const int32_t id = m_x.Insert(tight, recorded);
         Buffer(id);
         return id;
     }
-    void Destroy(int32_t id)
-    {
-        m_index.Remove(id);
-        m_b.Remove(id);
-    }
+    void Destroy(int32_t id) { m_x.Erase(id); }
     void Move(int32_t id, const Box& tight, Vec2 d)
     {
-        if (quadphase::Refatten(m_b.policy, m_b.fat[size_t(id)], tight, d))
+        if (m_x.Refit(id, tight, d))
         {
-            m_index.Update(id, m_b.fat[size_t(id)]);
             Buffer(id);
         }
     }
@@ -331,10 +316,11 @@ private:
             m_moveBuffer.push_back(id);
         }
     }
-    FatBoxes m_b;
+    Indexed<Index> m_x;
+    FatBoxes& m_b = m_x.b;
+    Index& m_index = m_x.index;
     std::vector<int32_t> m_moveBuffer;
     PairList m_pairs;
-    Index m_index;
 };
 
 /// The peer's own loop (see the file comment): every overlapping fat-box pair, each step.
@@ -343,28 +329,13 @@ class NativeEngine
 {
 public:
     template <typename... A>
-    explicit NativeEngine(float multiplier, A&&... a) : m_index(&m_b.fat, std::forward<A>(a)...)
+    explicit NativeEngine(float multiplier, A&&... a) : m_x(std::forward<A>(a)...)
     {
         m_b.policy.multiplier = multiplier;
     }
-    int32_t Create(const Box& tight, int32_t recorded)
-    {
-        const int32_t id = m_b.Add(tight, recorded);
-        m_index.Insert(id, m_b.fat[size_t(id)]);
-        return id;
-    }
-    void Destroy(int32_t id)
-    {
-        m_index.Remove(id);
-        m_b.Remove(id);
-    }
-    void Move(int32_t id, const Box& tight, Vec2 d)
-    {
-        if (quadphase::Refatten(m_b.policy, m_b.fat[size_t(id)], tight, d))
-        {
-            m_index.Update(id, m_b.fat[size_t(id)]);
-        }
-    }
+    int32_t Create(const Box& tight, int32_t recorded) { return m_x.Insert(tight, recorded); }
+    void Destroy(int32_t id) { m_x.Erase(id); }
+    void Move(int32_t id, const Box& tight, Vec2 d) { m_x.Refit(id, tight, d); }
     void Touch(int32_t) {} // every pair is reported anyway
     void UpdatePairs()
     {
@@ -384,9 +355,10 @@ public:
     const FatBoxes& Boxes() const { return m_b; }
 
 private:
-    FatBoxes m_b;
+    Indexed<Index> m_x;
+    FatBoxes& m_b = m_x.b;
+    Index& m_index = m_x.index;
     PairList m_pairs;
-    Index m_index;
 };
 
 /// Checks a native engine after every UpdatePairs: its unique pair set against all overlapping fat-box pairs.
@@ -548,7 +520,7 @@ int RunPeer(const PeerRun& run)
                          static_cast<long long>(loaded.steps.proxies), maxProxies);
             return 2;
         }
-        using E = InterfaceEngine<quadphase::BruteForceBroadPhase>;
+        using E = CoreEngine<quadphase::BruteForceBroadPhase>;
         return RunEngine<E>(run, [] { return std::make_unique<E>(); }, mode);
     }
     if (base == "paper")
@@ -575,7 +547,7 @@ int RunPeer(const PeerRun& run)
                 .Int("extra", checked.extra).Int("levels", levels);
             AppendLine(run.args.Get("json"), j.Text());
         }
-        using E = InterfaceEngine<quadphase::bench::PaperQuadtreeBroadPhase>;
+        using E = CoreEngine<quadphase::bench::PaperQuadtreeBroadPhase>;
         return RunEngine<E>(run, [&] {
             return std::make_unique<E>(levels, g.bounds, threads, quadphase::Schedule::Static,
                                        quadphase::bench::PaperPairReport::Buffered);
