@@ -7,13 +7,14 @@ One machine, one run, one Box2D source and set of flags per optimisation level (
            round; b2Profile, contacts, pairs, peak memory; medians over rounds;
   phases   the same tools from the first step of rain: the falling, piling and resting phases apart;
   replay   one recorded trace per scene and size through stock b2BroadPhase, quadphase (1 and 2 threads), brute
-           force (small traces), the paper's design, Chipmunk2D, Bullet, the memory floor and the replay loop
-           alone; pair sets checked against stock's on every UpdatePairs call;
+           force (small traces), the paper's design, the tuned Chipmunk2D and Bullet peers in both modes, the
+           oracle floor and the replay loop alone, a triad per round (memory floor); pair sets checked on every
+           UpdatePairs call; rain phase traces replayed by phase;
   queries  qp-query-stock and qp-query-quadtree: QueryAABB, short and long rays, a mass SetTransform then
            queries, through b2World; hits checked equal;
   circles  the paper's protocol: the most circles under 20 ms per frame (qp-circles).
 The first level runs every part; further levels run step, phases and the replay's headline engines. Writes
-bench/results/{step,phases,replay,queries,circles}.csv, bench.json, the PNG plots and bench/RESULTS.md.
+bench/results/{step,phases,replay,replay_phases,peers,queries,circles}.csv, bench.json, the PNG plots and bench/RESULTS.md.
 See bench/README.md for what each number means.
 """
 
@@ -630,6 +631,7 @@ def markdown(info, data, levels, plots):
          f"`bench/bench.py` in {info['timing'].get('total_s', 0) / 60:.1f} min. What each number means: "
          "[bench/README.md](README.md#benchmarks-of-issues-4-16-and-19-benchrunsh). Raw data: "
          "[step.csv](results/step.csv), [phases.csv](results/phases.csv), [replay.csv](results/replay.csv), "
+         "[replay_phases.csv](results/replay_phases.csv), [peers.csv](results/peers.csv), "
          "[queries.csv](results/queries.csv), [circles.csv](results/circles.csv), [bench.json](results/bench.json)."]
     if info.get("scale", 1.0) != 1.0:
         L += ["", f"**Scaled run (--scale {info['scale']}): sizes are not the profile's; for development only.**"]

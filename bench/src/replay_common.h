@@ -431,7 +431,7 @@ inline void AddRun(JsonLine& j, const RunResult& r)
         .Array("steps_ops", opsCount);
 }
 
-/// The timed runs of qp-replay-stock and qp-replay-others: `repeats` replays, each of a fresh engine from make();
+/// The timed runs of every engine but the quadtree (replay_peers.cpp): `repeats` replays, each of a fresh engine from make();
 /// one JSON line per run (base(j, "run"), the run's heap bytes per proxy as heap_bytes.h measures them, extra(j,
 /// engine), the per-step arrays), a line per run and the median on stdout.
 template <typename Make, typename Base, typename Extra>
