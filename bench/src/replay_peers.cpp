@@ -28,6 +28,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "b2_box.h"
 #include "box2d/b2_broad_phase.h"
 #include "core_engine.h"
 #include "paper_quadtree.h"
@@ -77,13 +78,6 @@ public:
     const b2BroadPhase& Get() const { return m_bp; }
 
 private:
-    static b2AABB ToAabb(const Box& b)
-    {
-        b2AABB a;
-        a.lowerBound.Set(b.minX, b.minY);
-        a.upperBound.Set(b.maxX, b.maxY);
-        return a;
-    }
     b2BroadPhase m_bp;
     PairList m_pairs;
 };
