@@ -66,7 +66,8 @@ PHASE_ENGINES = HEADLINE_ENGINES + ["oracle"]
 EXACT_ENGINES = ["quadtree-1t", "quadtree-2t", "oracle", "brute"] + PEERS
 OPTIONAL = {"cp-": "cp-hash", "bt-": "bt-dbvt"}  # engine prefix -> the word qp-replay --help lists when built
 BRUTE_MAX_PROXIES = 5000
-SLOW_MAX_PROXIES = 60000  # the paper's design (approximate, 3-6x stock) is left out of bigger traces
+SLOW_MAX_PROXIES = 60000  # left out of bigger traces: the paper's design (approximate, 3-6x stock) and Bullet's SAP
+SLOW = ("paper", "bt-sap-native")  # (particles 50k: check + 2 replays of bt-sap took over 5 min on a loaded machine)
 ENGINE_LABEL = dict({
     "stock": "Box2D b2DynamicTree (stock)", "quadtree-1t": "quadphase, 1 thread", "quadtree-2t": "quadphase, 2 threads",
     "oracle": "oracle floor: known pairs", "paper": "paper's design (approximate)", "cp-tree": "Chipmunk2D cpBBTree",
@@ -182,7 +183,7 @@ def replay_argv(engine, trace, extra):
 def replay_engines(trace, available):
     n = trace["proxies"]
     return [e for e in (PHASE_ENGINES if trace["warmup"] == 0 else REPLAY_ENGINES) if e in available
-            and not (e == "brute" and n > BRUTE_MAX_PROXIES) and not (e == "paper" and n > SLOW_MAX_PROXIES)]
+            and not (e == "brute" and n > BRUTE_MAX_PROXIES) and not (e in SLOW and n > SLOW_MAX_PROXIES)]
 
 
 def query_argv(args, runner, label):
