@@ -7,13 +7,14 @@ One machine, one run, one Box2D source and set of flags per optimisation level (
            round; b2Profile, contacts, pairs, peak memory; medians over rounds;
   phases   the same tools from the first step of rain: the falling, piling and resting phases apart;
   replay   one recorded trace per scene and size through stock b2BroadPhase, quadphase (1 and 2 threads), brute
-           force (small traces), the paper's design, Chipmunk2D, Bullet, the memory floor and the replay loop
-           alone; pair sets checked against stock's on every UpdatePairs call;
+           force (small traces), the paper's design, the tuned Chipmunk2D and Bullet peers in both modes, the
+           oracle floor and the replay loop alone, a triad per round (memory floor); pair sets checked on every
+           UpdatePairs call; rain phase traces replayed by phase;
   queries  qp-query-stock and qp-query-quadtree: QueryAABB, short and long rays, a mass SetTransform then
            queries, through b2World; hits checked equal;
   circles  the paper's protocol: the most circles under 20 ms per frame (qp-circles).
 The first level runs every part; further levels run step, phases and the replay's headline engines. Writes
-bench/results/{step,phases,replay,queries,circles}.csv, bench.json, the PNG plots and bench/RESULTS.md.
+bench/results/{step,phases,replay,replay_phases,peers,queries,circles}.csv, bench.json, the PNG plots and bench/RESULTS.md.
 See bench/README.md for what each number means.
 """
 
@@ -42,31 +43,39 @@ STEP_ENGINES = [("stock", 1), ("quadtree", 1), ("quadtree", 2)]  # (build, OMP_N
 PHASE_RUNS = {"quick": [("rain", 4000, 900), ("rain", 16000, 200)],
               "full": [("rain", 4000, 1500), ("rain", 16000, 200), ("rain", 16000, 1000)]}
 PHASES = ("falling", "piling", "resting")
-# Replay traces: (scene, size, warm-up steps, timed steps).
+# Replay traces: (scene, size, warm-up steps, timed steps). A trace with warm-up 0 and many steps is a phase trace:
+# every step timed, its steps split by phase (qp-record's .phases file); it is replayed by PHASE_ENGINES only.
 REPLAY_TRACES = {
     "quick": [("particles", 2000, 30, 10), ("particles", 10000, 30, 10), ("rain", 16000, 60, 10),
-              ("bullets", 500, 60, 10)],
+              ("bullets", 500, 60, 10), ("rain", 4000, 0, 900)],
     "full": [("particles", 2000, 60, 20), ("particles", 10000, 60, 20), ("particles", 50000, 30, 10),
              ("particles", 100000, 30, 10), ("rain", 4000, 120, 20), ("rain", 16000, 120, 20),
              ("rain", 65536, 60, 10), ("bullets", 1000, 120, 20), ("sparse", 20000, 60, 20),
-             ("tiles", 20000, 60, 20), ("pyramid", 60, 60, 20)],
+             ("tiles", 20000, 60, 20), ("pyramid", 60, 60, 20), ("rain", 4000, 0, 1200), ("rain", 16000, 0, 1000)],
 }
-# The slowest foreign engines (3-6x stock per step, and every replay also replays the untimed warm-up) are left out of
-# traces above this many proxies, to keep the full profile near 30 minutes. Bullet's tree keeps up with stock's.
-SLOW_ENGINES = ("paper", "cp-hash", "cp-tree")
-SLOW_MAX_PROXIES = 60000
-REPLAY_ENGINES = ["stock", "quadtree-1t", "quadtree-2t", "paper", "cp-hash", "cp-tree", "bt-dbvt", "brute", "floor",
-                  "null"]
+CELL_SCALES = ("0.5", "1", "2", "4", "8")  # cpSpaceHash's cell side, x the mean fat box side
+# Peers (replay_peers.cpp): Box2D's protocol (pairs of the moved proxies, checked against stock's), and native mode
+# (every overlapping pair each step, checked against all overlapping fat-box pairs; -mM: displacement multiplier).
+PROTOCOL_PEERS = [f"cp-hash-x{k}" for k in CELL_SCALES] + ["cp-tree", "bt-dbvt"]
+NATIVE_PEERS = ["cp-hash-native-x2", "cp-hash-native-x4", "cp-tree-native", "bt-dbvt-native-m0",
+                "bt-dbvt-native-m4", "bt-sap-native"]
+PEERS = PROTOCOL_PEERS + NATIVE_PEERS
+REPLAY_ENGINES = ["stock", "quadtree-1t", "quadtree-2t", "oracle", "paper"] + PEERS + ["brute", "null"]
 HEADLINE_ENGINES = ["stock", "quadtree-1t", "quadtree-2t"]  # what further optimisation levels replay
-EXACT_ENGINES = ["quadtree-1t", "quadtree-2t", "cp-hash", "cp-tree", "bt-dbvt", "brute"]
-OPTIONAL_ENGINES = {"cp-hash", "cp-tree", "bt-dbvt"}  # qp-replay-others lists those it was built with
+PHASE_ENGINES = HEADLINE_ENGINES + ["oracle"]
+EXACT_ENGINES = ["quadtree-1t", "quadtree-2t", "oracle", "brute"] + PEERS
+OPTIONAL = {"cp-": "cp-hash", "bt-": "bt-dbvt"}  # engine prefix -> the word qp-replay --help lists when built
 BRUTE_MAX_PROXIES = 5000
-ENGINE_LABEL = {
+SLOW_MAX_PROXIES = 60000  # left out of bigger traces: the paper's design (approximate, 3-6x stock) and Bullet's SAP
+SLOW = ("paper", "bt-sap-native")  # (particles 50k: check + 2 replays of bt-sap took over 5 min on a loaded machine)
+ENGINE_LABEL = dict({
     "stock": "Box2D b2DynamicTree (stock)", "quadtree-1t": "quadphase, 1 thread", "quadtree-2t": "quadphase, 2 threads",
-    "paper": "paper's design (approximate)", "cp-hash": "Chipmunk2D cpSpaceHash", "cp-tree": "Chipmunk2D cpBBTree",
-    "bt-dbvt": "Bullet btDbvtBroadphase", "brute": "brute force O(n^2)", "floor": "floor: stream the AABBs once",
-    "null": "replay loop alone",
-}
+    "oracle": "oracle floor: known pairs", "paper": "paper's design (approximate)", "cp-tree": "Chipmunk2D cpBBTree",
+    "bt-dbvt": "Bullet btDbvtBroadphase", "cp-tree-native": "Chipmunk2D cpBBTree, native",
+    "cp-hash-native-x2": "Chipmunk2D cpSpaceHash 2x, native", "cp-hash-native-x4": "Chipmunk2D cpSpaceHash 4x, native",
+    "bt-dbvt-native-m0": "Bullet btDbvt, native, no prediction", "bt-dbvt-native-m4": "Bullet btDbvt, native, 4x",
+    "bt-sap-native": "Bullet bt32BitAxisSweep3, native", "brute": "brute force O(n^2)", "null": "replay loop alone"},
+    **{f"cp-hash-x{k}": f"Chipmunk2D cpSpaceHash, cell {k}x" for k in CELL_SCALES})
 # Query workload of issue 19 (qp-query-*): sizes of its reproductions; workloads in report order.
 QUERY_ARGS = {"bodies": 50000, "world": 1000, "queries": 2000, "short-rays": 2000, "long-rays": 200,
               "teleport": 37500, "teleport-queries": 2000}
@@ -89,7 +98,7 @@ CIRCLES = {
 }
 REFERENCE = {"circles_stock": 52000, "circles_brute": 6200, "replay_stock_particles50k": 490,
              "replay_stock_rain64k": 510, "step_bp_stock_particles10k": 3.3, "step_bp_stock_particles50k": 43.9}
-TOOLS = ("qp-record", "qp-replay", "qp-replay-stock", "qp-replay-others", "qp-step-stock", "qp-step-quadtree",
+TOOLS = ("qp-record", "qp-replay", "qp-step-stock", "qp-step-quadtree",
          "qp-query-stock", "qp-query-quadtree", "qp-circles")
 
 
@@ -160,23 +169,21 @@ def run_unit(runner, args, unit, rnd):
     warmup, steps = (0, unit[5]) if kind == "phases" else ((40, 40) if args.full else (20, 20))
     runner.run(f"qp-step-{build}", "--scene", scene, "--size", size, "--seed", args.seed, "--warmup", warmup,
                "--steps", steps, "--threads", "default", "--ccd", args.ccd, "--json", runner.jsonl,
-               "--label", f"{kind} r{rnd}", env={"OMP_NUM_THREADS": str(omp)})
+               "--label", f"{kind} r{rnd}", *(["--per-step"] if kind == "phases" else []),
+               env={"OMP_NUM_THREADS": str(omp)})
 
 
 def replay_argv(engine, trace, extra):
-    if engine == "stock":
-        return "qp-replay-stock", ["--trace", trace] + extra
     if engine.startswith("quadtree"):
-        return "qp-replay", ["--trace", trace, "--threads", 1 if engine == "quadtree-1t" else 2] + extra
-    if engine == "null":
-        return "qp-replay", ["--trace", trace, "--engine", "null"] + extra
-    extra = extra + (["--max-proxies", BRUTE_MAX_PROXIES] if engine == "brute" else [])
-    return "qp-replay-others", ["--trace", trace, "--engine", engine] + extra
+        return ["--trace", trace, "--threads", 1 if engine == "quadtree-1t" else 2] + extra
+    return ["--trace", trace, "--engine", engine] + extra + (["--max-proxies", BRUTE_MAX_PROXIES] if engine == "brute"
+                                                             else [])
 
 
-def replay_engines(proxies, available):
-    return [e for e in REPLAY_ENGINES if e in available and not (e == "brute" and proxies > BRUTE_MAX_PROXIES)
-            and not (e in SLOW_ENGINES and proxies > SLOW_MAX_PROXIES)]
+def replay_engines(trace, available):
+    n = trace["proxies"]
+    return [e for e in (PHASE_ENGINES if trace["warmup"] == 0 else REPLAY_ENGINES) if e in available
+            and not (e == "brute" and n > BRUTE_MAX_PROXIES) and not (e in SLOW and n > SLOW_MAX_PROXIES)]
 
 
 def query_argv(args, runner, label):
@@ -213,10 +220,10 @@ def main():
           f"({info['box2d']['kind']})", flush=True)
     first = runners[0][2]
     info["tools"] = first.run("qp-replay", "--print-config")[1].strip().replace("default_config ", "defaults: ")
-    usage = first.run("qp-replay-others", "--help")[1]
-    available = set(REPLAY_ENGINES) - OPTIONAL_ENGINES
-    available |= {w for l in usage.splitlines() if l.startswith("available here:") for w in l.split(":", 1)[1].split()}
-    info["engines_missing"] = sorted(OPTIONAL_ENGINES - available)
+    usage = first.run("qp-replay", "--help")[1]
+    built = {w for l in usage.splitlines() if l.startswith("available here:") for w in l.split(":", 1)[1].split()}
+    available = {e for e in REPLAY_ENGINES if not any(e.startswith(p) and w not in built for p, w in OPTIONAL.items())}
+    info["engines_missing"] = sorted(set(REPLAY_ENGINES) - available)
     if info["engines_missing"]:
         print(f"bench.py: not built here (Chipmunk2D / Bullet not found at configure time): "
               f"{', '.join(info['engines_missing'])}")
@@ -226,8 +233,10 @@ def main():
         for scene, size, w, s in REPLAY_TRACES[args.profile]:
             path = first.record(scene, scaled(size, args, 2), w, s)
             traces.append(dict(scene=scene, size=scaled(size, args, 2), warmup=w, steps=s, path=path,
-                               name=os.path.basename(path).split(".")[0], proxies=run.trace_proxies(path)))
-    info["traces"] = [{k: t[k] for k in ("scene", "size", "warmup", "steps", "name", "proxies")} for t in traces]
+                               name=os.path.basename(path).split(".")[0], proxies=run.trace_proxies(path),
+                               phases=[l.strip() for l in open(path + ".phases") if not l.startswith("#")][w:]))
+    info["traces"] = [{k: t[k] for k in ("scene", "size", "warmup", "steps", "name", "proxies", "phases")}
+                      for t in traces]
 
     plans = []  # (level, runner, part, units)
     for i, (lv, _, runner) in enumerate(runners):
@@ -238,7 +247,7 @@ def main():
                 plans.append((lv, runner, part, phase_units(args)))
             elif part == "replay":
                 plans.append((lv, runner, part, [(t, e) for t in traces for e in replay_engines(
-                    t["proxies"], available if i == 0 else HEADLINE_ENGINES)]))
+                    t, available if i == 0 else set(HEADLINE_ENGINES))] + [(None, "triad")]))
             elif part == "queries" and i == 0:
                 plans.append((lv, runner, part, [("stock", 1), ("quadtree", 1), ("quadtree", 2)]))
             elif part == "circles" and i == 0:
@@ -256,7 +265,7 @@ def main():
                 for u in run.shuffled(units, args.seed + 100 * seed + rnd):
                     run_one(runner, args, part, u, rnd)
                     bar.step(f"{lv} {part} r{rnd + 1} " + " ".join(str(x) for x in (u[1:] if part != "replay" else
-                                                                                    (u[0]["name"], u[1]))))
+                                                                                    ((u[0] or {}).get("name"), u[1]))))
         info["timing"][f"{lv} {part}"] = time.time() - t0
     bar.end()
     info["timing"]["total_s"] = time.time() - t_start
@@ -273,8 +282,8 @@ def run_one(runner, args, part, u, rnd):
     elif part == "replay":
         t, e = u
         extra = ["--repeats", 1, "--json", runner.jsonl, "--label", f"replay r{rnd}"]
-        tool, argv = replay_argv(e, t["path"], extra + ([] if e == "floor" else ["--check", "none"]))
-        runner.run(tool, *argv)
+        runner.run("qp-replay", *(["--triad"] + extra if e == "triad" else replay_argv(e, t["path"], extra + [
+            "--check", "none"])))
     elif part == "queries":
         build, omp = u
         runner.run(f"qp-query-{build}", *query_argv(args, runner, f"queries|round={rnd}"),
@@ -283,15 +292,14 @@ def run_one(runner, args, part, u, rnd):
 
 def check_replays(runner, units, bar):
     """Untimed: stock's pair-set hashes of every trace, and every exact engine's compared with them."""
-    for t, e in units:
-        if e not in ("floor", "null"):
+    for t, e in sorted(units, key=lambda u: u[1] != "stock"):  # stock's hashes first
+        if e not in ("triad", "null"):
             hashes = t["path"] + ".stock.hash"
             extra = ["--repeats", 0, "--check", "first", "--json", runner.jsonl, "--label", "check"]
             extra += ["--hashes-out", hashes] if e == "stock" else ["--compare-hashes", hashes]
-            tool, argv = replay_argv(e, t["path"], extra)
-            if runner.run(tool, *argv, ok_codes=(0, 3))[0] == 3:
+            if runner.run("qp-replay", *replay_argv(e, t["path"], extra), ok_codes=(0, 3))[0] == 3:
                 print(f"\nbench.py: MISMATCH: {e} on {t['name']} (see {runner.log.name})", flush=True)
-        bar.step(f"check {t['name']} {e}")
+        bar.step(f"check {(t or {}).get('name')} {e}")
 
 
 def run_circles(runner, args, configs, bar):
@@ -322,7 +330,7 @@ def engine_name(r):
 
 
 def aggregate(rows):
-    groups, replay, checks, paper_checks, circles, queries = {}, {}, {}, {}, {}, {}
+    groups, replay, checks, paper_checks, circles, queries, triads = {}, {}, {}, {}, {}, {}, []
     for r in rows:
         tool, kind = r.get("tool"), r.get("kind")
         if tool == "qp-step":
@@ -330,13 +338,11 @@ def aggregate(rows):
             groups.setdefault((part, r["scene"], r["size"], r["steps"], engine_name(r)), []).append(r)
         elif tool == "qp-query":
             queries.setdefault(engine_name(r), []).append(r)
-        elif tool in ("qp-replay", "qp-replay-stock", "qp-replay-others") and kind in ("run", "check", "paper_check"):
-            if tool == "qp-replay-stock":
-                e = "stock"
-            elif tool == "qp-replay":
-                e = "null" if r.get("engine") == "null" else ("quadtree-1t" if r.get("threads") == 1 else "quadtree-2t")
-            else:
-                e = r["engine"]
+        elif tool == "qp-replay" and kind == "triad":
+            triads.append(r["bytes_per_s"])
+        elif tool == "qp-replay" and kind in ("run", "check", "paper_check"):
+            e = r.get("engine", "quadtree")
+            e = f"quadtree-{r.get('threads')}t" if e == "quadtree" else e
             if kind == "run":
                 replay.setdefault((r["trace"], e), []).append(r)
             elif kind == "check":
@@ -345,7 +351,83 @@ def aggregate(rows):
                 paper_checks[r["trace"]] = r
         elif tool == "qp-circles" and kind == "result":
             circles[(r["engine"], r["threads"], r["depth"])] = r
-    return groups, replay, checks, paper_checks, circles, queries
+    return groups, replay, checks, paper_checks, circles, queries, triads
+
+
+def per_step(runs, key):
+    """The median over the runs (rounds) of each step's value."""
+    return [med(list(v)) for v in zip(*[r[key] for r in runs])]
+
+
+def fair_phases(groups):
+    """In-engine phases compared over the same steps (the builds' simulations drift apart, see README): a step's
+    phase is the stock run's, and "resting" counts only the steps where both builds rest. Also each build's
+    broadphase time per awake body over its own phases. (scene, size, steps, engine) -> fields."""
+    out = {}
+    for s, n, st in {k[1:4] for k in groups if k[0] == "phases"}:
+        runs = {e: groups.get(("phases", s, n, st, e)) for e in ("stock", "quadtree-1t", "quadtree-2t")}
+        if not runs["stock"] or "steps_phase" not in runs["stock"][0]:
+            continue
+        sp, sbp = runs["stock"][0]["steps_phase"], per_step(runs["stock"], "steps_bp_ms")
+        for e in ("quadtree-1t", "quadtree-2t"):
+            if not runs[e] or "steps_phase" not in runs[e][0]:
+                continue
+            qp, qbp, row = runs[e][0]["steps_phase"], per_step(runs[e], "steps_bp_ms"), {}
+            for i, p in enumerate(PHASES):
+                ks = [k for k in range(min(len(sp), len(qp))) if sp[k] == i and (p != "resting" or qp[k] == i)]
+                row.update({f"fair_{p}_steps": len(ks), f"fair_{p}_stock_bp_ms": med([sbp[k] for k in ks]),
+                            f"fair_{p}_bp_ms": med([qbp[k] for k in ks])})
+                for who, ph, bp, rs in (("stock", sp, sbp, runs["stock"]), ("qt", qp, qbp, runs[e])):
+                    aw, ks = per_step(rs, "steps_awake"), [k for k in range(len(ph)) if ph[k] == i]
+                    a = sum(aw[k] for k in ks)
+                    row[f"{p}_{who}_us_per_awake"] = 1e3 * sum(bp[k] for k in ks) / a if a else None
+            out[(s, n, st, e)] = row
+    return out
+
+
+def replay_phase_rows(replay, traces):
+    """Phase traces: each engine's mean ms per step over each phase's steps (qp-record's phases), median over
+    rounds; stock ÷ engine."""
+    out = []
+    for t in (t for t in traces if t["warmup"] == 0):
+        for e in PHASE_ENGINES:
+            runs = replay.get((t["name"], e))
+            if not runs:
+                continue
+            for p in PHASES:
+                ks = [k for k, x in enumerate(t["phases"]) if x == p]
+                if ks:
+                    ms = med([sum(r["steps_ns"][k] for k in ks) / len(ks) * 1e-6 for r in runs])
+                    out.append({"trace": t["name"], "scene": t["scene"], "size": t["size"], "engine": e, "phase": p,
+                                "first": ks[0], "steps": len(ks), "ms_per_step": ms})
+    ref = {(r["trace"], r["phase"]): r["ms_per_step"] for r in out if r["engine"] == "stock"}
+    return [dict(r, x_stock=ratio(ref.get((r["trace"], r["phase"])), r["ms_per_step"])) for r in out]
+
+
+def peers_floors(rows, checks, triads, traces):
+    """Per trace: the fastest exact peer (either mode), quadphase's ratio over it, the oracle and memory floors."""
+    out, bw = [], med(triads)
+    by = {}
+    for r in rows:
+        by.setdefault((r["scene"], r["size"]), {})[r["engine"]] = r
+    meta = {t["name"]: t for t in traces}
+    for (s, n), es in sorted(by.items()):
+        q1 = es.get("quadtree-1t")
+        if not q1:
+            continue
+        exact = [(r["ms_per_step"], e) for e, r in es.items() if e in PEERS and r.get("exact") == "yes"]
+        best = min(exact) if exact else (None, None)
+        c = checks.get((q1["trace"], "quadtree-1t")) or {}
+        steps = c.get("timed_steps") or meta.get(q1["trace"], {}).get("steps")
+        mem = c["floor_bytes"] / steps / bw * 1e3 if c.get("floor_bytes") and bw and steps else None
+        o = es.get("oracle") or {}
+        out.append({"scene": s, "size": n, "qt1_ms": q1["ms_per_step"], "qt2_ms": (es.get("quadtree-2t") or {}).get(
+            "ms_per_step"), "peer": best[1], "peer_ms": best[0], "peer_x": ratio(best[0], q1["ms_per_step"]),
+            "oracle_ms": o.get("ms_per_step"), "oracle_exact": o.get("exact"),
+            "qt_over_oracle": ratio(q1["ms_per_step"], o.get("ms_per_step")), "memory_floor_ms": mem,
+            "qt_over_memory": ratio(q1["ms_per_step"], mem), "floor_mb_per_step": steps and c.get("floor_bytes", 0) / steps / 1e6,
+            "triad_gb_s": bw and bw * 1e-9})
+    return out
 
 
 def step_rows(groups, part, fields):
@@ -362,7 +444,9 @@ def replay_table(replay, checks, paper_checks, traces):
     out = []
     meta = {t["name"]: t for t in traces}
     for (trace, e), runs in replay.items():
-        row = {"trace": trace, "scene": runs[0]["scene"], "size": runs[0]["size"], "engine": e, "rounds": len(runs),
+        if meta.get(trace, {}).get("warmup") == 0:
+            continue  # phase traces: replay_phase_rows
+        row = {"trace": trace, "mode": "native" if "-native" in e else ("protocol" if e in PEERS + ["oracle"] else ""), "scene": runs[0]["scene"], "size": runs[0]["size"], "engine": e, "rounds": len(runs),
                "ms_per_step": med([x["step_ns"] * 1e-6 for x in runs]),
                "proxies_end": meta.get(trace, {}).get("proxies")}
         row.update({k: med([x.get(k) for x in runs]) for k in ("ns_per_proxy_step", "pairs_per_step",
@@ -377,7 +461,7 @@ def replay_table(replay, checks, paper_checks, traces):
             p = paper_checks[trace]
             row.update(exact="no (by design)", missed_pct=100.0 * p["missed"] / max(1, p["exact_pairs"]),
                        duplicates_pct=100.0 * p["duplicates"] / max(1, p["exact_pairs"]), extra=p["extra"],
-                       levels=runs[0].get("levels"))
+                       levels=p.get("levels"))
         else:
             row["exact"] = "-"
         out.append(row)
@@ -407,10 +491,14 @@ def write_outputs(args, info, rows_by_level):
     levels = [lv for lv, _ in info["levels"]]
     data = {}
     for lv in levels:
-        groups, replay, checks, paper_checks, circles, queries = aggregate(rows_by_level[lv])
+        groups, replay, checks, paper_checks, circles, queries, triads = aggregate(rows_by_level[lv])
+        fair = fair_phases(groups)
+        replay_rows = replay_table(replay, checks, paper_checks, info.get("traces", []))
         data[lv] = dict(step=step_rows(groups, "step", STEP_FIELDS),
-                        phases=step_rows(groups, "phases", PHASE_FIELDS + ["continuous", "bodies"]),
-                        replay=replay_table(replay, checks, paper_checks, info.get("traces", [])),
+                        phases=[dict(r, **fair.get((r["scene"], r["size"], r["steps"], r["engine"]), {}))
+                                for r in step_rows(groups, "phases", PHASE_FIELDS + ["continuous", "bodies"])],
+                        replay=replay_rows, replay_phases=replay_phase_rows(replay, info.get("traces", [])),
+                        peers=peers_floors(replay_rows, checks, triads, info.get("traces", [])),
                         queries=query_rows(queries), circles=[
                             {"engine": e, "threads": t, "depth": "auto" if d < 0 else d, "n_max": r["n_max"],
                              "capped": r["capped"], "evaluations": r["evaluations"], "seconds": r["seconds"]}
@@ -421,9 +509,14 @@ def write_outputs(args, info, rows_by_level):
                       "collide_ms", "solve_ms", "broadphase_ms", "toi_ms", "contacts_mean", "new_pairs_per_step",
                       "pairs_reported_per_step", "qt_find_ms_per_step", "peak_rss_bytes", "bp_bytes_per_proxy"])
     report.write_csv(os.path.join(res, "phases.csv"), [dict(r, opt=lv) for lv in levels for r in data[lv]["phases"]],
-                     ["opt", "scene", "size", "steps", "engine", "rounds", "continuous"] + PHASE_FIELDS)
+                     ["opt", "scene", "size", "steps", "engine", "rounds", "continuous"] + PHASE_FIELDS + [
+                         f"{k.format(p)}" for p in PHASES for k in ("fair_{}_steps", "fair_{}_stock_bp_ms",
+                                                                    "fair_{}_bp_ms", "{}_stock_us_per_awake",
+                                                                    "{}_qt_us_per_awake")])
+    for name in ("replay_phases", "peers"):
+        report.write_csv(os.path.join(res, name + ".csv"), [dict(r, opt=lv) for lv in levels for r in data[lv][name]])
     report.write_csv(os.path.join(res, "replay.csv"), [dict(r, opt=lv) for lv in levels for r in data[lv]["replay"]],
-                     ["opt", "scene", "size", "trace", "engine", "rounds", "mean_proxies", "ms_per_step",
+                     ["opt", "scene", "size", "trace", "engine", "mode", "rounds", "mean_proxies", "ms_per_step",
                       "ns_per_proxy_step", "pairs_per_step", "bytes_per_proxy", "exact", "missed_pct",
                       "duplicates_pct", "levels"])
     report.write_csv(os.path.join(res, "queries.csv"), d0["queries"])
@@ -475,7 +568,7 @@ def figures(res, d):
                              if r["scene"] == scene and r["engine"] == e and r["ms_per_step"])
                 if pts:
                     ax.plot([p[0] for p in pts], [p[1] for p in pts], marker="o", ms=3,
-                            ls="--" if e in ("floor", "null", "paper") else "-", label=ENGINE_LABEL[e])
+                            ls="--" if e in ("oracle", "null", "paper") else "-", label=ENGINE_LABEL[e])
             ax.set_xscale("log")
             ax.set_yscale("log")
             ax.set(xlabel="live proxies", ylabel="broadphase work, ms per step", title=f"replay: {scene}")
@@ -539,6 +632,7 @@ def markdown(info, data, levels, plots):
          f"`bench/bench.py` in {info['timing'].get('total_s', 0) / 60:.1f} min. What each number means: "
          "[bench/README.md](README.md#benchmarks-of-issues-4-16-and-19-benchrunsh). Raw data: "
          "[step.csv](results/step.csv), [phases.csv](results/phases.csv), [replay.csv](results/replay.csv), "
+         "[replay_phases.csv](results/replay_phases.csv), [peers.csv](results/peers.csv), "
          "[queries.csv](results/queries.csv), [circles.csv](results/circles.csv), [bench.json](results/bench.json)."]
     if info.get("scale", 1.0) != 1.0:
         L += ["", f"**Scaled run (--scale {info['scale']}): sizes are not the profile's; for development only.**"]
@@ -555,9 +649,9 @@ def markdown(info, data, levels, plots):
           "- In-engine, *b2Profile::broadphase* is what Box2D itself times: synchronising the proxies (MoveProxy) "
           "and FindNewContacts (UpdatePairs plus its callbacks creating contacts). The time inside the broadphase "
           "alone (MoveProxy + UpdatePairs + TestOverlap) is the replay's figure: the same calls, replayed.",
-          "- Chipmunk2D and Bullet are given the trace's fat boxes and queried per buffered proxy (Box2D's "
-          "protocol); their own native loops (cpSpaceHash rehashing everything, Bullet's persistent pair cache) "
-          "are not what is measured.",
+          "- Chipmunk2D and Bullet run in two modes (bench/README.md): Box2D's protocol (the trace's fat boxes, a "
+          "query per buffered proxy: the new pairs of the moved proxies, which their own loops cannot express) and "
+          "native (their own per-step loop and pair cache: every overlapping pair, each step).",
           "- The paper's design is approximate by construction (bench/baselines/README.md): its missed pairs "
           "and duplicates are counted against the exact pair sets.",
           "- Run time: " + ", ".join(f"{k} {v:.0f} s" for k, v in timing.items() if k != "total_s") + ".", ""]
@@ -619,12 +713,35 @@ def headline(d, by, rp, level):
             L.append(f"| {what}: never slower on any scene{' (within noise, 5%)' if metric == 'step_ms' else ''} | "
                      f"lowest ratio {worst[0][0]:.2f}× ({worst[0][1]})"
                      + (f"; below 0.95×: {', '.join(w[1] for w in below)}" if below else "") + f" | {met(not below)} |")
-    low = phase_lows(d["phases"])
-    if low:
-        L.append(f"| in-engine broadphase, every phase (falling, piling, resting), 1 and 2 threads: never below 1.0× | "
-                 f"lowest {low[0][0]:.2f}× ({low[0][1]})"
-                 + (f"; below 1.0×: {', '.join(f'{w[1]} {w[0]:.2f}×' for w in low if w[0] < 1.0)}"
-                    if low[0][0] < 1.0 else "") + f" | {met(low[0][0] >= 1.0)} |")
+    for low, how in ((phase_lows(d["phases"], True), "the same steps: stock's phases, resting where both rest"),
+                     (phase_lows(d["phases"]), "raw: each build's own phases")):
+        if low:
+            ccd = "CCD on" if all(r.get("continuous") for r in d["phases"]) else "CCD not on everywhere"
+            L.append(f"| in-engine broadphase, every phase, 1 and 2 threads ({ccd}): never below 1.0× ({how}) | "
+                     f"lowest {low[0][0]:.2f}× ({low[0][1]})"
+                     + (f"; below 1.0×: {', '.join(f'{w[1]} {w[0]:.2f}×' for w in low if w[0] < 1.0)}"
+                        if low[0][0] < 1.0 else "") + f" | {met(low[0][0] >= 1.0)} |")
+    for eng, goal in (("quadtree-1t", 8), ("quadtree-2t", 14)):
+        vals = [r for r in d["replay_phases"] if r["engine"] == eng and r["x_stock"]]
+        if vals:
+            L.append(f"| replay, {eng.replace('quadtree-', '')}: ≥{goal}× stock in every phase of rain | "
+                     + ", ".join(f"{r['scene']} {r['size']} {r['phase']}: {r['x_stock']:.1f}×" for r in vals)
+                     + f" | {met(all(r['x_stock'] >= goal for r in vals))} |")
+    pf = {(r["scene"], r["size"]): r for r in d["peers"]}
+    cases = [c for c in big if c in pf and pf[c]["peer_x"]] or [c for c, r in pf.items() if r["peer_x"]]
+    if cases:
+        L.append("| replay, 1 thread: ≥4× the fastest tuned exact peer on particles 50k–100k, rain 64k | " + ", ".join(
+            f"{s} {n}: {pf[(s, n)]['peer_x']:.1f}× ({pf[(s, n)]['peer']})" for s, n in cases)
+            + ("" if big else " (smaller traces: no 50k+ trace in this profile)")
+            + f" | {met(all(pf[c]['peer_x'] >= 4 for c in cases) if big else None)} |")
+    o50 = pf.get(("particles", 50000)) or {}
+    others = ", ".join(f"{s} {n}: {r['qt_over_oracle']:.1f}×" for (s, n), r in sorted(pf.items()) if r["qt_over_oracle"])
+    L.append(f"| replay, 1 thread: within 4× of the oracle floor on particles 50k | "
+             + (f"{o50['qt_over_oracle']:.1f}×" if o50.get("qt_over_oracle") else "particles 50k not in this profile")
+             + f" (every trace: {others}) | {met(o50['qt_over_oracle'] <= 4) if o50.get('qt_over_oracle') else 'n/a'} |")
+    mem = ", ".join(f"{s} {n}: {r['qt_over_memory']:.0f}×" for (s, n), r in sorted(pf.items()) if r["qt_over_memory"])
+    if mem:
+        L.append(f"| replay, 1 thread ÷ memory floor (bytes touched ÷ triad bandwidth) | {mem} | context |")
     s50 = step_ratio("particles", 50000, "quadtree-2t", "step_ms")
     L.append(f"| whole step ≥1.5× on particles 50k, 2 threads | {f'{s50:.2f}×' if s50 else 'not measured in this profile'}"
              f" | {met(s50 >= 1.5) if s50 else 'n/a'} |")
@@ -659,11 +776,6 @@ def headline(d, by, rp, level):
         w = max(mem)
         L.append(f"| memory: no more bytes per proxy than the stock tree (replay heap) | worst {w[1]} {w[2]}: "
                  f"{w[3]:.0f} vs {w[4]:.0f} B/proxy ({w[0]:.2f}×) | {met(w[0] <= 1.0)} |")
-    fl = [(q_["ns_per_proxy_step"] / f_["ns_per_proxy_step"], s, n) for s, n in replay_cases
-          for f_, q_ in [(rp.get((s, n, "floor")), rp.get((s, n, "quadtree-1t")))] if f_ and q_ and f_["ns_per_proxy_step"]]
-    if fl:
-        L.append("| floor: quadphase (1 thread) within 10× of streaming the AABBs once | "
-                 + ", ".join(f"{s} {n}: {v:.0f}×" for v, s, n in fl) + f" | {met(all(v <= 10 for v, _, _ in fl))} |")
     return L + [""]
 
 
@@ -705,9 +817,14 @@ def step_section(d, by, plots):
     return L
 
 
-def phase_lows(rows):
-    """(stock / quadtree broadphase, "scene size steps phase engine") for every measured phase, lowest first."""
+def phase_lows(rows, fair=False):
+    """(stock / quadtree broadphase, "scene size steps phase engine") for every measured phase, lowest first; fair:
+    over the same steps (fair_phases)."""
     by = {(r["scene"], r["size"], r["steps"], r["engine"]): r for r in rows}
+    if fair:
+        return sorted((v, f"{s} {n} ({q[f'fair_{p}_steps']} steps) {p} {e.replace('quadtree-', '')}")
+                      for (s, n, st, e), q in by.items() if e != "stock" for p in PHASES if q.get(f"fair_{p}_steps")
+                      for v in [ratio(q[f"fair_{p}_stock_bp_ms"], q[f"fair_{p}_bp_ms"])] if v)
     return sorted((v, f"{s} {n} (steps {a[p + '_first']:.0f}–{a[p + '_first'] + a[p + '_steps'] - 1:.0f}) {p} "
                       f"{e.replace('quadtree-', '')}")
                   for (s, n, st, e), q in by.items() if e != "stock" for a in [by.get((s, n, st, "stock"))] if a
@@ -742,8 +859,21 @@ def phase_section(data, levels):
                     for r in (a, q1, q2))] + [fmt(r.get(p + "_broadphase_ms"), 3) for r in (a, q1, q2)] + [
                     " / ".join(fmt(ratio(a[p + "_broadphase_ms"], q.get(p + "_broadphase_ms"))) for q in (q1, q2)),
                     fmt(a[p + "_step_ms"]), " / ".join(fmt(ratio(a[p + "_step_ms"], q.get(p + "_step_ms"))) for q in (q1, q2))])
-    return L + table(["opt", "scene", "CCD", "phase", "steps: stock / 1t / 2t", "stock bp ms", "1t bp ms", "2t bp ms",
-                      "bp × 1t / 2t", "stock step ms", "step × 1t / 2t"], rows) + [""]
+    L += table(["opt", "scene", "CCD", "phase", "steps: stock / 1t / 2t", "stock bp ms", "1t bp ms", "2t bp ms",
+                "bp × 1t / 2t", "stock step ms", "step × 1t / 2t"], rows) + [""]
+    L += ["**The same steps in both builds.** The table above compares each build's own phases, which drift apart "
+          "(a pile still settling in one build against a sleeping one in the other). Below, a step's phase is the "
+          "stock run's, and *resting* counts only the steps where both builds rest; medians over those steps of "
+          "the per-step medians over rounds. *µs per awake body*: each build's broadphase time over its own "
+          "phase's steps ÷ the awake dynamic bodies summed over them (a normalisation by the moving proxies).", ""]
+    rows = [[lv, f"{r['scene']} {r['size']}", r["engine"].replace("quadtree-", ""), p, r.get(f"fair_{p}_steps"),
+             fmt(r.get(f"fair_{p}_stock_bp_ms"), 3), fmt(r.get(f"fair_{p}_bp_ms"), 3),
+             fmt(ratio(r.get(f"fair_{p}_stock_bp_ms"), r.get(f"fair_{p}_bp_ms"))),
+             f"{fmt(r.get(f'{p}_stock_us_per_awake'), 3)} / {fmt(r.get(f'{p}_qt_us_per_awake'), 3)}"]
+            for lv in levels for r in data[lv]["phases"] if r["engine"] != "stock" for p in PHASES
+            if r.get(f"fair_{p}_steps") is not None]
+    return L + table(["opt", "scene", "threads", "phase (stock's)", "steps", "stock bp ms", "qt bp ms", "bp ×",
+                      "µs per awake body: stock / qt"], rows) + [""]
 
 
 def replay_section(d, rp, plots):
@@ -765,15 +895,37 @@ def replay_section(d, rp, plots):
                 if e == "paper" and r.get("missed_pct") is not None:
                     ex = (f"no: misses {r['missed_pct']:.2f}% of the pairs, {r['duplicates_pct']:.2f}% duplicates "
                           f"(levels {r.get('levels')})")
-                own = e not in ("floor", "null")
+                own = e != "null"
                 sp = ratio(a and a["ms_per_step"], r["ms_per_step"]) if own and e != "stock" else None
-                rows.append([f"{s} {n}", ENGINE_LABEL[e], fmt(r["ms_per_step"], 3), fmt(r["ns_per_proxy_step"], 1),
+                rows.append([f"{s} {n}", ENGINE_LABEL[e], r.get("mode", ""), fmt(r["ms_per_step"], 3),
+                             fmt(r["ns_per_proxy_step"], 1),
                              fmt(sp) + "×" if sp else "", fmt(r["pairs_per_step"], 0) if own else "",
                              fmt(r["bytes_per_proxy"], 0) if own else "", ex])
-    L += table(["trace", "engine", "ms/step", "ns/proxy/step", "× stock", "pairs/step", "B/proxy", "exact"], rows)
+    L += table(["trace", "engine", "mode", "ms/step", "ns/proxy/step", "× stock", "pairs/step", "B/proxy", "exact"], rows)
     bad = [f"{r['scene']} {r['size']} {r['engine']}" for r in d["replay"] if r.get("exact") == "MISMATCH"]
-    return L + ["", "**PAIR SET MISMATCHES: " + ", ".join(bad) + "**" if bad else
-                "Every exact engine gave stock's pair set on every UpdatePairs call of every trace.", ""]
+    L += ["", "**PAIR SET MISMATCHES: " + ", ".join(bad) + "**" if bad else
+          "Every exact engine gave its reference pair set on every UpdatePairs call of every trace (protocol mode: "
+          "stock's; native mode: all overlapping fat-box pairs).", ""]
+    L += ["### 2a. Fastest tuned peer and the floors", "",
+          "*Fastest exact peer*: the fastest of every Chipmunk2D and Bullet configuration above that was exact, in "
+          "either mode; *× peer* = its time ÷ quadphase's at 1 thread. *Oracle*: Box2D's protocol with every "
+          "query's pairs known in advance (the fat-box test of each move, then the precomputed pairs written): the "
+          "cost of the output alone. *Memory floor*: the bytes the queries must touch at least (each query's fat "
+          "box, the cell entries quadphase actually reads, the pairs written; counted on the checking run) ÷ the "
+          "bandwidth of a one-thread STREAM triad run in every round.", ""]
+    L += table(["trace", "quadphase 1t ms", "fastest exact peer", "peer ms", "× peer", "oracle ms", "÷ oracle",
+                "floor MB/step", "memory floor ms", "÷ memory floor", "triad GB/s"], [
+        [f"{r['scene']} {r['size']}", fmt(r["qt1_ms"], 3), ENGINE_LABEL.get(r["peer"], "–"), fmt(r["peer_ms"], 3),
+         fmt(r["peer_x"]), fmt(r["oracle_ms"], 3), fmt(r["qt_over_oracle"]), fmt(r["floor_mb_per_step"], 2),
+         fmt(r["memory_floor_ms"], 4), fmt(r["qt_over_memory"], 0), fmt(r["triad_gb_s"], 1)] for r in d["peers"]])
+    if d["replay_phases"]:
+        L += ["", "### 2b. Rain by phase (replay)", "",
+              "Rain replayed from its first step, every step timed; each step's phase is the recording's (the phase "
+              "rule of section 1b); mean ms per step over the phase's steps, median over rounds.", ""]
+        L += table(["trace", "phase", "steps", "engine", "ms/step", "× stock"], [
+            [f"{r['scene']} {r['size']}", r["phase"], f"{r['first']}–{r['first'] + r['steps'] - 1}",
+             ENGINE_LABEL[r["engine"]], fmt(r["ms_per_step"], 3), fmt(r["x_stock"])] for r in d["replay_phases"]])
+    return L + [""]
 
 
 def levels_section(data, levels):

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Parallel pair-generation benchmark of quadphase (run it through bench/parallel.sh, which builds the tools).
 
-One run records the traces (qp-record), checks every replay's pair sets against stock Box2D's (qp-replay-stock
+One run records the traces (qp-record), checks every replay's pair sets against stock Box2D's (qp-replay --engine stock
 hashes) and brute force (small traces), replays them with the timings interleaved (every round runs every
 configuration once, so a noisy phase of the machine hits all of them), and writes
 bench/results/parallel.md, parallel.csv and parallel.png. See bench/README.md for what each number means.
@@ -76,6 +76,8 @@ def log(msg):
 
 # The core's default parallelThreshold and schedule (qp-replay --print-config), read at start.
 DEFAULT = {"threshold": 512, "schedule": "guided"}
+SCHEDULES = ("static", "dynamic", "guided")
+ROWS_A = ((1, "static"), (2, "static"), (2, "dynamic"), (2, "guided"))
 
 
 def set_defaults(default_config):
@@ -113,7 +115,7 @@ class Results:
                 self.omp.append(r)
                 continue
             trace = r.get("trace")
-            if r["tool"] == "qp-replay-stock":
+            if r.get("engine") == "stock":
                 key = (trace, "stock")
             elif r.get("engine") == "null":
                 key = (trace, "null")
@@ -122,8 +124,8 @@ class Results:
             if r.get("kind") == "run":
                 self.runs.setdefault(key, []).append(r)
             elif r.get("kind") == "check":
-                (self.stock_checks if r["tool"] == "qp-replay-stock" else self.checks)[
-                    trace if r["tool"] == "qp-replay-stock" else key] = r
+                (self.stock_checks if r.get("engine") == "stock" else self.checks)[
+                    trace if r.get("engine") == "stock" else key] = r
 
     def key(self, trace, c):
         return (trace, "quadtree") + cfg_key(c)
@@ -199,7 +201,7 @@ def main():
     t_start = time.time()
     os.makedirs(args.results, exist_ok=True)
     runner = run.Runner("parallel.py", os.path.join(args.build_dir, "bench"), args.work, "parallel",
-                        tools=("qp-record", "qp-replay", "qp-replay-stock"), seed=args.seed, rerecord=args.rerecord,
+                        tools=("qp-record", "qp-replay"), seed=args.seed, rerecord=args.rerecord,
                         wait_quiet=args.wait_quiet, quiet_cpus=args.quiet_cpus, echo=log)
     log(f"parallel.py: work directory {args.work}; {'full' if args.full else 'quick'} version, "
         f"{args.repeats} timed rounds")
@@ -224,7 +226,7 @@ def main():
     mismatches = {}
     for j in jobs:
         stock_hash, quad_hash = j["trace"] + ".stock.hash", j["trace"] + ".quadtree.hash"
-        runner.run("qp-replay-stock", "--trace", j["trace"], "--repeats", 0, "--check", "first",
+        runner.run("qp-replay", "--engine", "stock", "--trace", j["trace"], "--repeats", 0, "--check", "first",
                    "--hashes-out", stock_hash, "--json", runner.jsonl, "--label", j["section"])
         argv = ["--trace", j["trace"], "--repeats", 0, "--check", j["check"], "--compare-hashes", stock_hash,
                 "--hashes-out", quad_hash, "--json", runner.jsonl, "--label", j["section"]]
@@ -258,7 +260,7 @@ def main():
         for j in jobs:
             common = ["--trace", j["trace"], "--repeats", j.get("inner", 1), "--check", "none", "--json",
                       runner.jsonl, "--label", f"{j['section']}|round={r}"]
-            runner.run("qp-replay-stock", *common)
+            runner.run("qp-replay", "--engine", "stock", *common)
             per_call = ["--per-call"] if j.get("per_call") else []
             # The configurations run in a different (seeded) random order in every round, so a burst of other
             # activity on the machine does not always hit the same neighbours.
@@ -661,170 +663,44 @@ def pct(a, b):
 
 
 def analysis_a(res, na, depths, shape, omp, gauge, gauge_find):
-    out = ["**Which wins, and why.**\n"]
-    grid = {}
-    for th, sch in ((1, "static"), (2, "static"), (2, "dynamic"), (2, "guided")):
-        for d in depths:
-            grid[(th, sch, d)] = res.step_ms(res.key(na, cfg(th, sch, d)))
+    """The numbers behind table (a); how to read them: bench/README.md, section (a)."""
+    grid = {(th, sch, d): res.step_ms(res.key(na, cfg(th, sch, d))) for th, sch in ROWS_A for d in depths}
+    fgrid = {k: res.find_ms(res.key(na, cfg(*k))) for k in grid}
     valid = {k: v for k, v in grid.items() if not math.isnan(v)}
-    if not valid:
-        return ""
-    best = min(valid, key=valid.get)
-    seq = {d: grid[(1, "static", d)] for d in depths if not math.isnan(grid[(1, "static", d)])}
-    seq_best = min(seq, key=seq.get)
-    fixed = [d for d in depths if d != "auto" and d in shape]
-    auto_d = shape.get("auto", {}).get("depth", "?")
-    def name(k):
-        return ("sequential" if k[0] == 1 else f"{k[1]}") + f" depth {k[2]}"
-
-    tol = 1.0 + (gauge if gauge is not None else 10.0) / 100.0
-    close = sorted((k for k in valid if valid[k] <= valid[best] * tol), key=valid.get)
-    fgrid = {k: res.find_ms(res.key(na, cfg(k[0], k[1], k[2]))) for k in grid}
     fvalid = {k: v for k, v in fgrid.items() if not math.isnan(v)}
-    fbest = min(fvalid, key=fvalid.get)
-    ftol = 1.0 + (gauge_find if gauge_find is not None else 10.0) / 100.0
-    fclose = sorted((k for k in fvalid if fvalid[k] <= fvalid[fbest] * ftol), key=fvalid.get)
-    out.append(f"- **Fastest, whole work:** {name(best)}"
-               f"{' (= ' + str(auto_d) + ')' if best[2] == 'auto' else ''} at {fmt(valid[best])} ms/step; within the "
-               f"noise gauge of it: {', '.join(name(k) for k in close[1:]) or 'nothing else'}. "
-               f"**FindPairs only** (where the schedule acts; less noisy, because the serial MoveProxy part, "
-               f"the noisiest, is left out): {name(fbest)} at {fmt(fvalid[fbest])} ms/step; within its gauge: "
-               f"{', '.join(name(k) for k in fclose[1:]) or 'nothing else'}. Fastest sequential: depth {seq_best}"
-               f"{' (= ' + str(auto_d) + ')' if seq_best == 'auto' else ''}, {fmt(seq[seq_best])} ms/step. The "
-               f"automatic depth picks {auto_d}.")
-    if fixed:
-        lo, hi = fixed[0], fixed[-1]
-        s_lo, s_hi = shape[lo], shape[hi]
-        out.append(f"- **Depth** sets the work per query. At depth {lo} (leaf {fmt(s_lo['leaf'], 1)} m, "
-                   f"{fmt(s_lo['leafcells'], 2)} leaf cells per proxy) a query visits {fmt(s_lo['cells'], 1)} cells "
-                   f"but tests {fmt(s_lo['cand'], 0)} candidates for about one pair: candidate tests dominate. Each "
-                   "level deeper divides the candidates until the leaf is about the size of a fat box.")
-        tol = 1.0 + (gauge if gauge is not None else 10.0) / 100.0
-        seq_fixed = {d: seq[d] for d in fixed if d in seq}
-        if seq_fixed:
-            m = min(seq_fixed.values())
-            good = [d for d in fixed if d in seq_fixed and seq_fixed[d] <= m * tol]
-            out.append(f"  Sequentially, " + (f"depths {', '.join(good)} are" if len(good) > 1 else f"only depth {good[0]} is")
-                       + " within the noise of the fastest fixed depth: "
-                       + "; ".join(f"depth {d}: leaf {fmt(shape[d]['leaf'], 2)} m, {fmt(shape[d]['cells'], 1)} cells "
-                                   f"and {fmt(shape[d]['cand'], 1)} candidates per query, {fmt(shape[d]['mem'], 1)} MB"
-                                   for d in good)
-                       + f". Deeper still (depth {hi}: {fmt(s_hi['cells'], 1)} cells per query, "
-                       f"{fmt(s_hi['leafcells'], 1)} leaf cells per proxy, {fmt(s_hi['mem'], 1)} MB) the candidates "
-                       "barely fall while the cells visited and the memory (24 B per cell, empty or not; the caches "
-                       "here are 2 MB of L2 per core) grow.")
-        sat = None
-        for d in fixed:
-            if shape[d]["deepest"] < shape[d]["depth"]:
-                sat = d
-                break
-        if sat is not None:
-            out.append(f"  From depth {sat} on, the proxies all live at level {shape[sat]['deepest']} or above (a "
-                       "proxy is stored at the deepest level where its box spans at most two cells per axis), so "
-                       "the deeper levels stay empty and queries see the same candidates "
-                       f"({fmt(shape[sat]['cand'], 1)} per query); only the cell array grows — "
-                       + (f"{fmt(shape[sat]['mem'], 1)} MB at depth {sat}, " if sat != hi else "")
-                       + f"{fmt(s_hi['mem'], 1)} MB at depth {hi} "
-                       f"({fmt(s_hi['leafcells'], 1)} leaf cells per proxy, 24 B each even when empty) — which costs "
-                       "cache and the rebuilds' time. The times flatten or rise accordingly.")
-
-    # schedules
-    spreads, wins = [], {}
-    for d in depths:
-        col = {s: fgrid[(2, s, d)] for s in ("static", "dynamic", "guided") if not math.isnan(fgrid[(2, s, d)])}
-        if len(col) == 3:
-            w = min(col, key=col.get)
-            wins[w] = wins.get(w, 0) + 1
-            spreads.append(pct(max(col.values()), min(col.values())))
-    if spreads:
-        per_sched = {sch: med([pct(fgrid[(2, sch, d)], min(fgrid[(2, x, d)] for x in ("static", "dynamic", "guided")))
-                               for d in depths]) for sch in ("static", "dynamic", "guided")}
-        d4 = depths[0]
-        col4 = {x: fgrid[(2, x, d4)] for x in ("static", "dynamic", "guided")}
-        margin4 = pct(col4["static"], min(col4.values()))
-        static_ok = per_sched["static"] <= min(per_sched.values()) + (gauge_find or 0.0)
-        out.append(f"- **Schedule** (FindPairs table): the fastest 2-thread schedule per depth column is "
-                   + ", ".join(f"{k} in {v}" for k, v in sorted(wins.items(), key=lambda kv: -kv[1]))
-                   + f" of {len(spreads)} columns; median distance to the column's fastest: "
-                   + ", ".join(f"{k} {fmt(v, 1)}%" for k, v in per_sched.items())
-                   + (f" (noise gauge {fmt(gauge_find, 1)}%)" if gauge_find is not None else "")
-                   + f". At depth {d4} the fastest is {min(col4, key=col4.get)} (static {fmt(margin4, 1)}% slower)"
-                   + (" — as in the paper, the one column where dynamic scheduling helped on the i7: with "
-                      f"{fmt(shape[d4]['cand'], 0)} candidates per query the queries' costs vary with their cells' "
-                      "crowding, and a dynamic hand-out of blocks evens that out" if min(col4, key=col4.get) != "static"
-                      and d4 in shape else "")
-                   + (". Elsewhere the blocks of 64 queries cost alike (the buffered proxies, in move-buffer order, "
-                      "are spread evenly over the box), so static scheduling is already balanced and dynamic/guided "
-                      "only add a shared-counter hand-off per block"
-                      if static_ok else
-                      ". Static is outside the noise gauge of the fastest here: even on this evenly spread scene the "
-                      "two contiguous halves it hands out do not cost exactly alike, and guided's shrinking chunks "
-                      "even out the rest, for a hand-off that costs little more than static's")
-                   + (f" (an empty 64-iteration loop: static {fmt(omp.get(('static', 64)), 1)} µs, dynamic "
-                      f"{fmt(omp.get(('dynamic', 64)), 1)} µs, guided {fmt(omp.get(('guided', 64)), 1)} µs)"
-                      if omp else "")
-                   + (". The paper saw the same (static ≥ dynamic except at depth 4 on the i7) for the same reason: "
-                      "near-equal iterations. " if static_ok else
-                      ". Dynamic, which hands out one block at a time, pays its per-block hand-off and trails. ")
-                   + (f"The default, {DEFAULT['schedule']}, is within the noise gauge of the fastest here"
-                      if per_sched.get(DEFAULT["schedule"], float("inf")) <= min(per_sched.values())
-                      + (gauge_find or 0.0) else
-                      f"The default, {DEFAULT['schedule']}, is {fmt(per_sched.get(DEFAULT['schedule']), 1)}% from "
-                      "the fastest here")
-                   + "; it is the default rather than static because its shrinking chunks also even out traces "
-                   "whose queries do not cost alike: rain, where static leaves one thread waiting (see the static "
-                   "runs under the table of (b)).")
-    sp = []
-    for d in depths:
-        a, b = grid[(1, "static", d)], grid[(2, "static", d)]
-        if not math.isnan(a) and not math.isnan(b):
-            sp.append((d, a / b))
+    if not valid or not fvalid:
+        return ""
+    name = lambda k: ("sequential" if k[0] == 1 else k[1]) + f" depth {k[2]}"  # noqa: E731
+    best, fbest = min(valid, key=valid.get), min(fvalid, key=fvalid.get)
+    seq = {d: grid[(1, "static", d)] for d in depths if (1, "static", d) in valid}
+    out = [f"- Fastest, whole work: {name(best)}, {fmt(valid[best])} ms/step; FindPairs only: {name(fbest)}, "
+           f"{fmt(fvalid[fbest])} ms/step; fastest sequential: depth {min(seq, key=seq.get)}, {fmt(min(seq.values()))}"
+           f" ms/step; the automatic depth picks {shape.get('auto', {}).get('depth', '?')}; noise gauge "
+           f"{fmt(gauge, 1)}% (whole), {fmt(gauge_find, 1)}% (FindPairs)."]
+    cols = [{x: fgrid[(2, x, d)] for x in SCHEDULES} for d in depths]
+    cols = [c for c in cols if not any(math.isnan(v) for v in c.values())]
+    if cols:
+        out.append("- 2-thread schedules, FindPairs, median % above each depth's fastest: " + ", ".join(
+            f"{x} {fmt(med([pct(c[x], min(c.values())) for c in cols]), 1)}%" for x in SCHEDULES)
+            + (f" (an empty 64-iteration parallel loop: " + ", ".join(f"{x} {fmt(omp.get((x, 64)), 1)} µs"
+                                                                    for x in SCHEDULES) + ")" if omp else ""))
+    sp = [grid[(1, "static", d)] / grid[(2, "static", d)] for d in depths
+          if (1, "static", d) in valid and (2, "static", d) in valid]
     fs = [fgrid[(1, "static", d)] / fgrid[(2, "static", d)] for d in depths
-          if not math.isnan(fgrid[(1, "static", d)]) and not math.isnan(fgrid[(2, "static", d)])]
-    ms = [grid[(1, "static", d)] - fgrid[(1, "static", d)] for d in depths
-          if not math.isnan(grid[(1, "static", d)]) and not math.isnan(fgrid[(1, "static", d)])]
-    if sp and fs and ms:
-        faster = [d for d, x in sp if x > 1.0]
-        out.append(f"- **2 threads vs 1:** static at 2 threads is faster than sequential at {len(faster)} of "
-                   f"{len(sp)} depths (speed-ups {fmt(min(x for _, x in sp))}–{fmt(max(x for _, x in sp))}×). In the "
-                   "paper, the parallel versions lost to sequential at the shallow depths (they looped over leaf "
-                   "boxes, few iterations there, and serialised on a lock around the shared output) and won only at "
-                   "depth 8–9 on the 2-core i7. Here the loop is over buffered proxies, whatever the depth, and each "
-                   "block writes its own vector, so the parallel part does not depend on depth. FindPairs alone "
-                   f"speeds up {fmt(min(fs), 2)}–{fmt(max(fs), 2)}× at every depth; the whole work less, the more so the "
-                   "smaller FindPairs' share of the step: the serial work outside UpdatePairs (the MoveProxy calls) "
-                   f"costs about the same at every depth (1 thread: {fmt(min(ms), 1)}–{fmt(max(ms), 1)} ms/step) — "
-                   "see (b).")
+          if (1, "static", d) in fvalid and (2, "static", d) in fvalid]
+    if sp and fs:
+        out.append(f"- Static at 2 threads over sequential: whole work {fmt(min(sp))}–{fmt(max(sp))}×, FindPairs "
+                   f"{fmt(min(fs), 2)}–{fmt(max(fs), 2)}×, faster at {sum(x > 1 for x in sp)} of {len(sp)} depths.")
     return "\n".join(out) + "\n"
 
 
 def analysis_b(rows):
-    out = []
-    for r in rows:
-        cap2 = amdahl(r["share"], 2)
-        rep = ""
-        if r.get("r1", 0) > 0:
-            rep = (f" Grid maintenance (inside and outside FindPairs) went {fmt(r['r1'])} → {fmt(r['r2'])} ms "
-                   f"({fmt(r['r1'] / r['r2']) if r['r2'] > 0 else '–'}×).")
-        loop = r.get("loop", float("nan"))
-        net = ""
-        if not math.isnan(loop) and r["t2"] > loop:
-            # The replay loop stands in for Box2D's own body loop: it is not broadphase work, and it is serial.
-            net = (f" Less the replay loop's own {fmt(loop, 2)} ms per step (the null engine of (d), run once "
-                   f"before the rounds), the broadphase's calls alone went {fmt(r['t1'] - loop)} → "
-                   f"{fmt(r['t2'] - loop)} ms ({fmt((r['t1'] - loop) / (r['t2'] - loop))}×).")
-        out.append(f"- **{r['name']}**: FindPairs {fmt(r['f1'])} → {fmt(r['f2'])} ms ({fmt(r['sf'])}×); whole work "
-                   f"{fmt(r['t1'])} → {fmt(r['t2'])} ms ({fmt(r['sw'])}×).{net}{rep} The work outside UpdatePairs "
-                   f"(the MoveProxy calls) is m = {fmt(100 * r['share'], 0)}% of the 1-thread step and went "
-                   f"{fmt(r['m1'])} → {fmt(r['m2'])} ms: the queued moves' chunk applies inside "
-                   f"it run on both threads, the appends and the replay loop do not. Had it all stayed serial, even a "
-                   f"perfect FindPairs speed-up would give only {fmt(cap2)}× at 2 threads. The measured "
-                   f"serial fraction (Karp–Flatt, e = 2/S − 1) is {fmt(r['ew'], 2)} for the whole work and "
-                   f"{fmt(r['ef'], 2)} for FindPairs alone (its serial parts — move-buffer hand-off, join"
-                   + (", the re-placement of cell changes (one thread; see docs/design.md)" if r.get("r1", 0) > 0 else "")
-                   + " — the memory stalls both cores share, and the shared machine's noise).")
-    out.append("")
-    return "\n".join(out)
+    """Numbers beside table (b): the whole work less the replay loop, and the Amdahl bound of the outside share."""
+    return "\n".join(
+        f"- {r['name']}: had the outside share stayed serial, 2 threads could not beat {fmt(amdahl(r['share'], 2))}×"
+        + (f"; less the replay loop ({fmt(r['loop'], 2)} ms/step): {fmt(r['t1'] - r['loop'])} → "
+           f"{fmt(r['t2'] - r['loop'])} ms ({fmt((r['t1'] - r['loop']) / (r['t2'] - r['loop']))}×)"
+           if not math.isnan(r.get("loop", float("nan"))) and r["t2"] > r["loop"] else "") + "." for r in rows) + "\n"
 
 
 CALL_BUCKETS = [0, 1, 16, 64, 128, 256, 512, 1024, 2048, 4096]
@@ -877,125 +753,44 @@ def per_call_table(res, j):
 
 
 def analysis_c(res, sweeps, smalls, thresholds, omp, per_call):
-    out = []
-    # Call by call: the largest size class where a parallel call loses, the smallest where it wins.
-    lose_hi, win_lo = None, None
-    for j, t in per_call:
-        for row in t["rows"]:
-            if CALL_BUCKETS[row["bucket"]] == 0:
-                continue  # empty calls: no queries at all
-            edge_hi = CALL_BUCKETS[row["bucket"] + 1] if row["bucket"] + 1 < len(CALL_BUCKETS) else None
-            # a class wins or loses only beyond ±5%; in between it is a tie
-            if row["ratio"] < 1.05 and edge_hi is not None:
-                lose_hi = edge_hi if lose_hi is None else max(lose_hi, edge_hi)
+    """The numbers behind (c) and the recommended threshold (how it is chosen: bench/README.md, section (c))."""
+    out, lose_hi, win_lo = [], None, None
+    for _, t in per_call:  # a size class wins or loses beyond ±5%
+        for row in (r for r in t["rows"] if CALL_BUCKETS[r["bucket"]] > 0):
+            hi = CALL_BUCKETS[row["bucket"] + 1] if row["bucket"] + 1 < len(CALL_BUCKETS) else None
+            if row["ratio"] < 1.05 and hi is not None:
+                lose_hi = max(lose_hi or 0, hi)
             if row["ratio"] > 1.05:
-                lo = CALL_BUCKETS[row["bucket"]]
-                win_lo = lo if win_lo is None else min(win_lo, lo)
+                win_lo = min(win_lo if win_lo is not None else 1 << 30, CALL_BUCKETS[row["bucket"]])
     if per_call:
-        out.append("- Call by call (a size class wins or loses beyond ±5%): "
-                   + (f"the largest size class where a parallel call does not win ends at {lose_hi - 1} buffered "
-                      "proxies" if lose_hi else "no size class where a parallel call loses")
-                   + "; " + (f"the smallest size class where it wins starts at {win_lo}" if win_lo is not None
-                             else "no size class where it wins") + ".")
-    small_calls = []
-    for j in sweeps:
-        ck = res.checks.get(res.key(j["name"], cfg(1)), {})
-        edges, calls = ck.get("bucket_edges", []), ck.get("bucket_calls", [])
-        if edges and calls:
-            big = sum(c for e, c in zip(edges, calls) if e >= 64) / j["steps"]
-            few = sum(c for e, c in zip(edges, calls) if 0 < e < 64) / j["steps"]
-            small_calls.append(f"{j['display']}: {fmt(few, 1)} calls per step with 1–63 buffered proxies, "
-                               f"{fmt(big, 1)} with 64 or more")
+        out.append(f"- Call by call: largest size class where a parallel call does not win ends at "
+                   f"{lose_hi - 1 if lose_hi else '–'} buffered proxies; smallest where it wins starts at "
+                   f"{win_lo if win_lo is not None else '–'}.")
     rel = {t: [] for t in thresholds}
     for j in sweeps:
-        n = j["name"]
-        ref = res.step_ms(res.key(n, cfg(1)))
-        vals = {t: res.step_ms(res.key(n, cfg(2, threshold=t))) for t in thresholds}
+        vals = {t: res.step_ms(res.key(j["name"], cfg(2, threshold=t))) for t in thresholds}
         vals = {t: v for t, v in vals.items() if not math.isnan(v)}
-        if not vals:
-            continue
-        best = min(vals, key=vals.get)
-        for t, v in vals.items():
-            rel[t].append(v / vals[best])
-        first_par = None
-        for t in sorted(vals):
-            k = res.key(n, cfg(2, threshold=t))
-            if res.first(k, "parallel_calls", 0) == 0:
-                first_par = t
-                break
-        out.append(f"- {j['display']}: fastest at threshold {best} ({fmt(vals[best], 3)} ms/step, "
-                   f"{fmt(ref / vals[best], 2)}× the 1-thread time); threshold 0 (a parallel region for every call) "
-                   f"{fmt(vals.get(0), 3)} ms/step ({fmt(ref / vals[0], 2) if 0 in vals else '–'}×); 512: "
-                   f"{fmt(vals.get(512), 3)} ms/step ({fmt(pct(vals[512], vals[best]), 1) if 512 in vals else '–'}% "
-                   "from the fastest)" + (f"; from threshold {first_par} on, no call is parallel" if first_par is not None
-                                          else "") + ".")
+        if vals:
+            best = min(vals, key=vals.get)
+            for t, v in vals.items():
+                rel[t].append(v / vals[best])
+            out.append(f"- {j['display']}: fastest at threshold {best} ({fmt(vals[best], 3)} ms/step, "
+                       f"{fmt(res.step_ms(res.key(j['name'], cfg(1))) / vals[best], 2)}× the 1-thread time).")
     score = {t: math.exp(sum(math.log(x) for x in v) / len(v)) for t, v in rel.items() if v}
-    # Thresholds that make exactly the same calls parallel on every sweep scene behave identically: group them.
-    groups = {}
-    for t in thresholds:
-        sig = tuple(res.first(res.key(j["name"], cfg(2, threshold=t)), "parallel_calls", -1) for j in sweeps)
-        groups.setdefault(sig, []).append(t)
-    same = [g for g in groups.values() if len(g) > 1]
-    if same:
-        out.append("- Thresholds " + "; ".join(", ".join(str(t) for t in g) for g in same)
-                   + (" make" if len(same) > 1 else " make") + " exactly the same calls parallel on these scenes "
-                   "(same number of parallel regions), so the differences within each group are noise.")
     if score:
-        best_t = min(score, key=score.get)
+        best_t, dflt = min(score, key=score.get), DEFAULT["threshold"]
         near = sorted(t for t, v in score.items() if v <= score[best_t] * 1.03)
-        out.append("")
-        out.append("Geometric mean over the sweep scenes of (time / that scene's fastest threshold): "
-                   + ", ".join(f"{t}: {fmt(score[t], 3)}" for t in sorted(score)) + ". "
-                   f"Lowest: {best_t}; within 3% of it: {', '.join(str(t) for t in near)}.")
-        dflt = DEFAULT["threshold"]
-        rec = dflt if dflt in near else best_t
-        # Within the best group of equivalent thresholds, take the smallest one that keeps every size class where
-        # a parallel call did not win serial.
-        best_group = next((g for g in groups.values() if best_t in g), [best_t])
-        if lose_hi is not None:
-            ok = [t for t in sorted(best_group) if t >= lose_hi]
-            if ok:
-                rec = ok[0] if dflt not in near else dflt
-            else:
-                above = [t for t in sorted(score) if t >= lose_hi]
-                rec = above[0] if above else rec
-        out.append("")
-        why = ""
-        if rec in best_group and len(best_group) > 1:
-            why = (f"Thresholds {', '.join(str(t) for t in sorted(best_group))} make the same calls parallel as the "
-                   f"fastest ({best_t}) on the sweep scenes; {rec} is the smallest of them that keeps serial every "
-                   "size class where a parallel call did not win. ")
-        elif rec == best_t:
-            why = "It is the fastest in the sweep. "
-        elif rec in near:
-            why = f"It is within 3% of the fastest ({best_t}) in the sweep. "
-        out.append(f"**Recommendation: parallelThreshold = {rec}"
-                   + (" (the core's current default)" if rec == dflt else f" (the core's default is {dflt})")
-                   + ".** " + why
-                   + (f"Against 512, the old default: {fmt(score[rec] / score[512], 3)}× the time (geometric mean "
-                      "over the sweep scenes). " if 512 in score and rec != 512 else "")
-                   + "A parallel region costs "
-                   + (f"{fmt(omp.get(('static', 1)), 1)} µs " if omp else "a few µs ")
-                   + "when the worker thread is still spinning, more when it has gone to sleep or another process "
-                   "holds its core; a query costs from tens of ns (particles) to hundreds (bullets, whose piles and "
-                   "arena walls give more candidates), so the break-even call size depends on the scene"
-                   + (f" — measured above: the largest size class where a parallel call does not win ends at "
-                      f"{lose_hi - 1} buffered proxies" if lose_hi else "")
-                   + (f", the smallest where it wins starts at {win_lo}" if win_lo is not None else "")
-                   + ". The threshold must keep the many small calls serial (" + "; ".join(small_calls)
-                   + ") and should let the main call of a mid-size scene (hundreds of buffered proxies) go "
-                   "parallel.")
+        above = [t for t in sorted(score) if lose_hi is None or t >= lose_hi]
+        rec = dflt if dflt in near else (above[0] if above else best_t)
+        out.append("- Geometric mean over the sweep scenes of time ÷ that scene's fastest: " + ", ".join(
+            f"{t}: {fmt(score[t], 3)}" for t in sorted(score)) + f"; within 3% of the lowest: "
+            f"{', '.join(map(str, near))}. **Recommended parallelThreshold: {rec}** (the core's default: {dflt}).")
     if smalls:
         worst = max(res.step_ms(res.key(j["name"], cfg(2))) / res.step_ms(res.key(j["name"], cfg(1))) for j in smalls)
         regions = sum(res.first(res.key(j["name"], cfg(2)), "parallel_calls", 0) for j in smalls)
-        out.append("")
-        out.append(f"On the {smalls[0]['size']}-body scenes at the default threshold, 2 threads take at most "
-                   f"{fmt(worst, 3)}× the 1-thread time"
-                   + (": no parallel region is opened (every call is under the threshold), so the code run is the "
-                      "same and the difference is noise." if regions == 0 else
-                      f"; {regions} parallel regions were opened."))
-    out.append("")
-    return "\n".join(out)
+        out.append(f"- {smalls[0]['size']}-body scenes at the default threshold: 2 threads take at most "
+                   f"{fmt(worst, 3)}× the 1-thread time; {regions} parallel regions opened.")
+    return "\n".join(out) + "\n"
 
 
 def serial_fractions(r):
@@ -1006,38 +801,15 @@ def serial_fractions(r):
 
 
 def analysis_e(rows):
-    out = []
-    out.append("The curves are a **projection**, not a measurement: Amdahl's law S(p) = 1 / (s + (1 − s) / p) with "
-               "serial fractions measured on 2 cores in (b). Solid, the measured design: s = m + e_F (1 − m), where m "
-               "is the share of the 1-thread step spent outside UpdatePairs (the MoveProxy calls, made one at a "
-               "time by Box2D) and e_F the Karp–Flatt serial fraction of FindPairs: a pessimistic bound, as if all of "
-               "the outside work were serial (part of it, the queued moves' chunk applies, runs on all threads; "
-               "compare the whole-work Karp–Flatt fraction of (b)). Dashed: s = e_F (1 − m), what would be left if "
-               "the work outside UpdatePairs were all parallel (an optimistic bound). The measured design lies "
-               "between the two. Dots: measured.\n")
-    out.append("| trace | m | e_F | s | projected 4 / 8 / 16 threads | s if the outside work were parallel | "
-               "projected 4 / 8 / 16 threads | blocks of 64 in the largest call |")
-    out.append("|---|---|---|---|---|---|---|---|")
+    """The projection's table (what it assumes: bench/README.md, section (e))."""
+    out = ["| trace | m | e_F | s | projected 4 / 8 / 16 threads | s if the outside work were parallel | "
+           "projected 4 / 8 / 16 threads | blocks of 64 in the largest call |", "|---|---|---|---|---|---|---|---|"]
     for r in rows:
         s, s2 = serial_fractions(r)
-        blocks = (r["buffered"] or 0) / 64.0
         out.append(f"| {r['name']} | {fmt(r['share'], 2)} | {fmt(r['ef'], 2)} | {fmt(s, 2)} | "
-                   f"{' / '.join(fmt(amdahl(s, p), 1) for p in (4, 8, 16))} | "
-                   f"{fmt(s2, 2)} | {' / '.join(fmt(amdahl(s2, p), 1) for p in (4, 8, 16))} | {fmt(blocks, 0)} |")
-    out.append("")
-    worst_share = max(r["share"] for r in rows)
-    best_share = min(r["share"] for r in rows)
-    out.append(f"**How the design should scale to 16 cores, and what limits it** (the join, memory and block "
-               f"granularity: bench/README.md, section (e)): Box2D calls MoveProxy one proxy at a time, so the work "
-               f"outside UpdatePairs is m = {fmt(100 * best_share, 0)}–{fmt(100 * worst_share, 0)}% of the 1-thread "
-               f"step here, and were it all serial no thread count could beat {fmt(1 / worst_share, 1)}–"
-               f"{fmt(1 / best_share, 1)}×. This overstates the serial part: the adapter's MoveProxy only appends the "
-               "move to a queue, applied on all threads every 8192 moves and by FindPairs; the serial rest of m is "
-               "the append, the per-call overhead and the replay loop (null engine, (d)); the cell changes run "
-               "batched inside FindPairs on one thread (docs/design.md, \"Grid maintenance\"). The whole-work "
-               "Karp–Flatt fraction of (b) is the better gauge.")
-    out.append("")
-    return "\n".join(out)
+                   f"{' / '.join(fmt(amdahl(s, p), 1) for p in (4, 8, 16))} | {fmt(s2, 2)} | "
+                   f"{' / '.join(fmt(amdahl(s2, p), 1) for p in (4, 8, 16))} | {fmt((r['buffered'] or 0) / 64.0, 0)} |")
+    return "\n".join(out) + "\n"
 
 
 def figure(path, res, args, rows, ja):

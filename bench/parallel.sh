@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Parallel pair-generation benchmark: installs what it needs (bench/install-deps.sh), configures and builds
-# qp-record / qp-replay / qp-replay-stock (Release), then runs bench/parallel.py, which records the traces, replays
+# qp-record / qp-replay (Release), then runs bench/parallel.py, which records the traces, replays
 # them and writes bench/results/parallel.md, parallel.csv and parallel.png. See bench/README.md.
 #
 #   bench/parallel.sh                 # the quick version (under ~15 minutes on a 2-core machine)
@@ -15,5 +15,5 @@ qp_deps bench/install-deps.sh
 build_dir=${BUILD_DIR:-build-bench}
 qp_configure "$build_dir" -DCMAKE_BUILD_TYPE=Release -DQUADPHASE_BUILD_BENCH=ON -DQUADPHASE_BUILD_TESTS=OFF \
     -DQUADPHASE_BUILD_EXAMPLES=OFF
-qp_build "$build_dir" qp-record qp-replay qp-replay-stock
+qp_build "$build_dir" qp-record qp-replay
 exec /usr/bin/python3 bench/parallel.py --build-dir "$build_dir" "$@"

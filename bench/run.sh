@@ -6,7 +6,7 @@
 # bench/results/*.csv, bench.json, the PNG plots and bench/RESULTS.md. See bench/README.md.
 #
 #   bench/run.sh                 # quick profile, -O2: under 10 minutes on a 2-core machine (plus the first build)
-#   bench/run.sh --full          # full profile: about 30 minutes per level
+#   bench/run.sh --full          # full profile, -O2 and -O3 (--opt both unless --opt says otherwise)
 #   bench/run.sh --opt both      # -O2 (Debian's level) and -O3 (Box2D's CMake Release): a stock and a quadphase
 #                                # build each, same source, same flags; in-engine and replay headline at both
 #   bench/run.sh --help          # every option of bench.py (parts, rounds, scale, output paths)
@@ -15,17 +15,18 @@
 # QUADPHASE_BOX2D_SOURCE_DIR / QUADPHASE_BOX2D_TARBALL (scripts/lib/build.sh).
 source "$(dirname "${BASH_SOURCE[0]}")/../scripts/lib/build.sh"
 
-opt=O2
+opt=
 args=()
 while [[ $# -gt 0 ]]; do
     case "$1" in
         -h|--help) exec /usr/bin/python3 bench/bench.py --help ;;
+        --full) args+=("$1"); opt=${opt:-both}; shift ;;
         --opt) opt=${2:-}; shift 2 ;;
         --opt=*) opt=${1#--opt=}; shift ;;
         *) args+=("$1"); shift ;;
     esac
 done
-case "$opt" in
+case "${opt:-O2}" in
     O2) levels=(O2) ;;
     O3) levels=(O3) ;;
     both) levels=(O2 O3) ;;

@@ -70,7 +70,7 @@ class Runner:
         os.makedirs(self.traces, exist_ok=True)
         path = os.path.join(self.traces, f"{scene}-{size}-w{warmup}-s{steps}-seed{self.seed}.qptrace")
         want = {"scene": scene, "size": str(size), "seed": str(self.seed), "warmup": str(warmup), "steps": str(steps)}
-        if not self.rerecord and os.path.exists(path) and os.path.exists(path + ".steps"):
+        if not self.rerecord and all(os.path.exists(path + x) for x in ("", ".steps", ".phases")):
             with open(path + ".steps") as f:
                 have = dict(p for p in (line.split() for line in f) if len(p) == 2 and p[0] in want)
             if have == want:

@@ -33,6 +33,7 @@
 #include <unordered_set>
 #include <vector>
 
+#include "b2_box.h"
 #include "box2d/b2_broad_phase.h"
 #include "paper_quadtree.h"
 #include "quadphase/quadtree_broad_phase.h"
@@ -237,13 +238,6 @@ public:
     void AddPair(void* a, void* b) { m_list.Add(int32_t(intptr_t(a)), int32_t(intptr_t(b))); }
 
 private:
-    static b2AABB ToAabb(const Box& b)
-    {
-        b2AABB a;
-        a.lowerBound.Set(b.minX, b.minY);
-        a.upperBound.Set(b.maxX, b.maxY);
-        return a;
-    }
     b2BroadPhase m_bp;
     std::vector<int32_t> m_ids;
     std::vector<float> m_last, m_lastY;

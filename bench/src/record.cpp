@@ -3,6 +3,8 @@
 //
 //   qp-record --scene particles --size 50000 [--seed 1] [--warmup 60] [--steps 30] --out DIR/particles-50000.qptrace
 //
+// Also writes FILE.phases: the phase (phase.h) after every step, so that a replay can be split by phase.
+//
 // What the trace holds. A replay must start from the recorded world's broadphase state, bit for bit (fat boxes,
 // which proxies are buffered), or its MoveProxy decisions and pair sets would differ. Fat boxes after a few steps
 // cannot be recreated by CreateProxy calls, so the trace starts at the scene's creation:
@@ -14,6 +16,7 @@
 // The world is built with the quadphase build of Box2D; the calls it makes do not depend on the broadphase beyond
 // the order of new contacts (equally valid simulation).
 #include <cinttypes>
+#include <fstream>
 #include <cstdio>
 #include <string>
 
@@ -21,6 +24,7 @@
 #include "quadphase/box2d.h"
 #include "quadphase/fat_policy.h"
 #include "quadphase_scenes/scenes.h"
+#include "phase.h"
 #include "replay_common.h"
 
 namespace
@@ -116,19 +120,25 @@ int main(int argc, char** argv)
     SetTrace(world, &trace);
     index.boundary.push_back(trace.Ops().size());
     int64_t warmupNs = 0, recordNs = 0;
+    qpbench::Phase phase = qpbench::Falling;
+    std::string phases = "# qp-phases 1: the phase after each step (phase.h), one line per step from step 0\n";
     for (int s = 0; s < warmup + steps; ++s)
     {
         const int64_t t0 = qpbench::NowNs();
         scenes::StepScene(scene);
         (s < warmup ? warmupNs : recordNs) += qpbench::NowNs() - t0;
         index.boundary.push_back(trace.Ops().size());
+        phase = qpbench::Classify(world, phase); // untimed
+        phases += std::string(qpbench::kPhaseName[phase]) + "\n";
     }
     SetTrace(world, nullptr);
     index.bodies = scenes::CountBodies(world);
     index.proxies = quadtree.GetProxyCount();
 
     std::string error;
-    if (!trace.Save(out, error) || !index.Save(out + ".steps", error))
+    std::ofstream phaseFile(out + ".phases");
+    phaseFile << phases;
+    if (!trace.Save(out, error) || !index.Save(out + ".steps", error) || !phaseFile)
     {
         std::fprintf(stderr, "qp-record: %s\n", error.c_str());
         return 1;

@@ -1,10 +1,8 @@
-// qp-replay: replays a trace (qp-record) through quadphase::QuadtreeBroadPhase and times the broadphase work of
-// each recorded step (definition in replay_common.h). Links quadphase::core only.
-//
-//   qp-replay --trace FILE [--threads N] [--schedule static|dynamic|guided|auto] [--chunk C] [--depth D]
-//             [--threshold T] [--config "threads=2,schedule=dynamic,depth=6"]... [--repeats R]
-//             [--check none|first|all] [--hashes-out FILE] [--compare-hashes FILE] [--brute]
-//             [--engine quadtree|null] [--json FILE] [--omp-overhead] [--label TEXT] [--per-call]
+// qp-replay: replays a trace (qp-record) through a broadphase and times the broadphase work of each recorded step
+// (definition in replay_common.h): quadphase::QuadtreeBroadPhase (this file; any Config), stock Box2D 2.4.1's
+// b2BroadPhase and the peers (replay_peers.cpp: brute force, the paper's design, Chipmunk2D, Bullet, the oracle
+// floor), or a null engine (the replay loop alone). Also: --triad (the memory floor's bandwidth), --omp-overhead
+// (the cost of a parallel region), --print-config (the core's defaults). Usage: qp-replay --help.
 //
 // Every --config is the base settings (--threads ... --threshold) with some keys overridden; without --config
 // there is one configuration, the base. The timed runs go round the configurations R times (configuration order
@@ -12,7 +10,7 @@
 //
 // --check first|all: before the timed runs, one untimed checking run per configuration (first: only the first
 // one) hashes the pair set of every UpdatePairs call (--hashes-out writes the first configuration's hashes;
-// --compare-hashes compares each checked configuration against a file, e.g. qp-replay-stock's) and gathers query
+// --compare-hashes compares each checked configuration against a file, e.g. --engine stock's) and gathers query
 // statistics (cells and candidates per query, buffered proxies per UpdatePairs call). --brute also replays
 // through BruteForceBroadPhase (small traces only) and compares.
 //
@@ -33,6 +31,8 @@
 #include "quadphase/quadtree_broad_phase.h"
 #include "heap_bytes.h"
 #include "replay_common.h"
+#include "replay_peers.h"
+#include "core_engine.h"
 
 namespace
 {
@@ -123,125 +123,6 @@ std::string Describe(const Config& c)
 // Engines.
 // ---------------------------------------------------------------------------------------------------------------
 
-/// QuadtreeBroadPhase or BruteForceBroadPhase (both final: the calls below are direct).
-template <typename BP>
-class CoreEngine
-{
-public:
-    template <typename... A>
-    explicit CoreEngine(A&&... a)
-        : m_bp(std::forward<A>(a)...)
-    {
-    }
-
-    int32_t Create(const Box& tight, int32_t recorded)
-    {
-        const ProxyId id = m_bp.CreateProxy(tight, reinterpret_cast<void*>(intptr_t(recorded)));
-        if (m_track)
-        {
-            Mark(id);
-        }
-        return id;
-    }
-    void Destroy(int32_t id) { m_bp.DestroyProxy(id); }
-    void Move(int32_t id, const Box& tight, Vec2 d)
-    {
-        if constexpr (std::is_same_v<BP, quadphase::QuadtreeBroadPhase>)
-        {
-            if (!m_track)
-            {
-                m_bp.QueueMove(id, tight, d); // what the Box2D adapter calls (b2BroadPhase::MoveProxy)
-                return;
-            }
-        }
-        const bool buffered = m_bp.MoveProxy(id, tight, d);
-        if (m_track && buffered)
-        {
-            Mark(id);
-        }
-    }
-    void Touch(int32_t id)
-    {
-        m_bp.TouchProxy(id);
-        if (m_track)
-        {
-            Mark(id);
-        }
-    }
-    void UpdatePairs()
-    {
-        m_pairs.clear();
-        m_bp.FindPairs(m_pairs);
-    }
-    void ShiftOrigin(Vec2 o) { m_bp.ShiftOrigin(o); }
-    int32_t ProxyCount() const { return m_bp.GetProxyCount(); }
-    size_t PairCount() const { return m_pairs.size(); }
-    void PairKeys(std::vector<uint64_t>& keys) const
-    {
-        for (const quadphase::Pair& p : m_pairs)
-        {
-            keys.push_back(PairKey(int32_t(intptr_t(m_bp.GetUserData(p.a))), int32_t(intptr_t(m_bp.GetUserData(p.b)))));
-        }
-    }
-    void BeginTimedSteps()
-    {
-        if constexpr (std::is_same_v<BP, quadphase::QuadtreeBroadPhase>)
-        {
-            m_bp.ResetCounters();
-        }
-    }
-
-    BP& Get() { return m_bp; }
-
-    // Buffered-proxy tracking for the checking run: the live proxies that the next UpdatePairs will query.
-    void SetTracking(bool on) { m_track = on; }
-    std::vector<ProxyId> TakeBuffered()
-    {
-        std::vector<ProxyId> live;
-        for (ProxyId id : m_buffered)
-        {
-            m_flag[size_t(id)] = 0;
-            if (IsLive(id))
-            {
-                live.push_back(id);
-            }
-        }
-        m_buffered.clear();
-        return live;
-    }
-
-private:
-    bool IsLive(ProxyId id) const
-    {
-        if constexpr (std::is_same_v<BP, quadphase::QuadtreeBroadPhase>)
-        {
-            return m_bp.GetPool().IsLive(id);
-        }
-        else
-        {
-            return true;
-        }
-    }
-    void Mark(ProxyId id)
-    {
-        if (size_t(id) >= m_flag.size())
-        {
-            m_flag.resize(size_t(id) * 2 + 16, 0);
-        }
-        if (!m_flag[size_t(id)])
-        {
-            m_flag[size_t(id)] = 1;
-            m_buffered.push_back(id);
-        }
-    }
-
-    BP m_bp;
-    std::vector<quadphase::Pair> m_pairs;
-    bool m_track = false;
-    std::vector<uint8_t> m_flag;
-    std::vector<ProxyId> m_buffered;
-};
-
 /// Does nothing: measures the replay loop's own cost (op dispatch, id map, clock reads).
 class NullEngine
 {
@@ -278,8 +159,8 @@ struct QueryStats
 
     int64_t calls = 0;
     int64_t queries = 0;    // buffered live proxies queried
-    int64_t cells = 0;      // cells in the query ranges over non-empty levels (approx.: our own coordinate map)
-    int64_t candidates = 0; // entries visited, the query itself excluded
+    int64_t cells = 0;      // cells read over the non-empty levels (Pyramid::VisitCost)
+    int64_t candidates = 0; // entries read, the query's own entry excluded
     int64_t overlaps = 0;   // candidates whose fat box overlaps (before the "both buffered" de-duplication)
     int64_t pairs = 0;      // pairs reported
     int64_t maxBuffered = 0; // largest call
@@ -306,32 +187,26 @@ struct QueryStats
         maxBuffered = std::max(maxBuffered, n);
         callBuffered.push_back(int32_t(n));
 
+        m_pending = std::move(buffered);
+    }
+    template <typename Engine>
+    void AfterUpdatePairs(Engine& engine, bool timed)
+    {
+        if (!timed)
+        {
+            return;
+        }
+        pairs += int64_t(engine.PairCount());
+        // After the call the pyramid is the one its queries read (stale entries written, any re-tune done), and
+        // FindPairs reads, per buffered proxy, exactly what Pyramid::Visit reads: these counts are exact.
         const quadphase::QuadtreeBroadPhase& bp = engine.Get();
         const quadphase::Pyramid& pyramid = bp.GetPyramid();
-        const int depth = pyramid.Depth();
-        const quadphase::Box bounds = pyramid.Bounds();
-        const double leaf = double(pyramid.LeafSize());
-        const int32_t maxCoord = (int32_t(1) << depth) - 1;
-        auto coord = [&](float v, float origin) {
-            const double t = std::floor((double(v) - double(origin)) / leaf);
-            return int32_t(t < 0.0 ? 0.0 : (t > double(maxCoord) ? double(maxCoord) : t));
-        };
-        for (ProxyId q : buffered)
+        for (ProxyId q : m_pending)
         {
             const quadphase::Box qb = bp.GetFatBox(q);
-            const int32_t cx0 = coord(qb.minX, bounds.minX), cy0 = coord(qb.minY, bounds.minY);
-            const int32_t cx1 = coord(qb.maxX, bounds.minX), cy1 = coord(qb.maxY, bounds.minY);
-            for (int level = 0; level <= depth; ++level)
+            for (int level = 0; level <= pyramid.Depth(); ++level)
             {
-                const int64_t inLevel = pyramid.LevelCount(level);
-                if (inLevel == 0)
-                {
-                    continue;
-                }
-                const int shift = depth - level;
-                const int64_t x0 = std::max(0, (cx0 >> shift) - 1), y0 = std::max(0, (cy0 >> shift) - 1);
-                const int64_t area = (int64_t(cx1 >> shift) - x0 + 1) * (int64_t(cy1 >> shift) - y0 + 1);
-                cells += std::min(area, inLevel);
+                cells += pyramid.LevelCount(level) > 0 ? pyramid.VisitCost(level, qb) : 0;
             }
             pyramid.Visit(qb, [&](const quadphase::Entry& e) {
                 if (e.id != q)
@@ -343,14 +218,7 @@ struct QueryStats
             });
         }
     }
-    template <typename Engine>
-    void AfterUpdatePairs(Engine& engine, bool timed)
-    {
-        if (timed)
-        {
-            pairs += int64_t(engine.PairCount());
-        }
-    }
+    std::vector<ProxyId> m_pending;
 };
 constexpr int QueryStats::kEdges[QueryStats::kBuckets];
 
@@ -376,27 +244,51 @@ double ParallelRegionMicros(int threads, omp_sched_t kind, int blocks)
     return Median(samples);
 }
 
+/// STREAM's triad a[i] = b[i] + s * c[i] over three arrays of `n` doubles, one thread: the best of `repeats`
+/// passes, in bytes per second (24 bytes per element, STREAM's count).
+double TriadBytesPerSecond(size_t n, int repeats)
+{
+    std::vector<double> a(n, 0.0), b(n, 1.0), c(n, 2.0);
+    double best = 1e30;
+    for (int r = 0; r < repeats; ++r)
+    {
+        const int64_t t0 = NowNs();
+        const double scalar = 3.0 + r;
+        for (size_t i = 0; i < n; ++i)
+        {
+            a[i] = b[i] + scalar * c[i];
+        }
+        best = std::min(best, double(NowNs() - t0) * 1e-9);
+        b[r % n] = a[(r * 7) % n]; // keeps the passes from being merged
+    }
+    return 24.0 * double(n) / best;
+}
+
 void Usage()
 {
     std::fprintf(stderr,
-                 "usage: qp-replay --trace FILE [--steps-file FILE] [--threads N] [--schedule static|dynamic|guided|auto]\n"
-                 "                 [--chunk C] [--depth D|auto] [--threshold T] [--config k=v,k=v]... [--repeats R]\n"
-                 "                 [--check none|first|all] [--hashes-out FILE] [--compare-hashes FILE] [--brute]\n"
-                 "                 [--engine quadtree|null] [--json FILE] [--label TEXT] [--omp-overhead] [--per-call]\n"
-                 "                 [--print-config]\n");
+                 "usage: qp-replay --trace FILE [--steps-file FILE] [--engine NAME] [--repeats R] [--check none|first|all]\n"
+                 "                 [--hashes-out FILE] [--compare-hashes FILE] [--json FILE] [--label TEXT]\n"
+                 "  quadtree (default): [--threads N] [--schedule static|dynamic|guided|auto] [--chunk C] [--depth D|auto]\n"
+                 "                 [--threshold T] [--config k=v,k=v]... [--brute] [--per-call]\n"
+                 "  null: the replay loop alone; stock, brute, paper ([--levels L|auto] [--threads N]), oracle, cp-hash-xK,\n"
+                 "  cp-tree, bt-dbvt, and -native[-mM] modes of cp-hash-xK, cp-tree, bt-dbvt, bt-sap (replay_peers.cpp)\n"
+                 "  qp-replay --omp-overhead | --triad | --print-config\n"
+                 "available here: stock brute paper oracle%s%s\n",
+                 QP_HAVE_CHIPMUNK ? " cp-hash cp-tree" : "", QP_HAVE_BULLET ? " bt-dbvt bt-sap" : "");
 }
 
 } // namespace
 
 int main(int argc, char** argv)
 {
-    const Args args(argc, argv, {"brute", "omp-overhead", "help", "force-brute", "per-call", "print-config"});
+    const Args args(argc, argv, {"brute", "omp-overhead", "help", "force-brute", "per-call", "print-config", "triad"});
     const std::vector<std::string> problems =
         args.Problems({"trace", "steps-file", "threads", "schedule", "chunk", "depth", "threshold", "config", "repeats",
                        "check", "hashes-out", "compare-hashes", "brute", "force-brute", "engine", "json", "label",
-                       "omp-overhead", "per-call", "print-config", "help"});
+                       "omp-overhead", "per-call", "print-config", "help", "triad", "levels", "max-proxies"});
     if (args.Has("help") || !problems.empty() ||
-        (!args.Has("trace") && !args.Has("omp-overhead") && !args.Has("print-config")))
+        (!args.Has("trace") && !args.Has("omp-overhead") && !args.Has("print-config") && !args.Has("triad")))
     {
         for (const std::string& p : problems)
         {
@@ -416,6 +308,19 @@ int main(int argc, char** argv)
     const std::string jsonPath = args.Get("json");
     const std::string label = args.Get("label");
 
+    if (args.Has("triad"))
+    {
+        // The memory floor's bandwidth: 3 x 64 MB, far beyond the caches.
+        const double bps = TriadBytesPerSecond(size_t(8) << 20, 10);
+        std::printf("triad, 1 thread: %.2f GB/s\n", bps * 1e-9);
+        JsonLine j;
+        j.Str("tool", "qp-replay").Str("kind", "triad").Str("label", label).Num("bytes_per_s", bps);
+        AppendLine(jsonPath, j.Text());
+        if (!args.Has("trace"))
+        {
+            return 0;
+        }
+    }
     if (args.Has("omp-overhead"))
     {
         // The fixed cost FindPairs pays to go parallel, for the threshold discussion.
@@ -490,6 +395,13 @@ int main(int argc, char** argv)
         j.Str("tool", "qp-replay").Str("kind", kind).Str("label", label).Str("trace", loaded.name)
             .Str("scene", index.scene).Int("size", index.size).Int("warmup", index.warmup);
     };
+    if (engineName != "quadtree" && engineName != "null")
+    {
+        return RunPeer(PeerRun{args, loaded, engineName, [&](JsonLine& j, const char* kind) {
+                                   baseJson(j, kind);
+                                   j.Str("engine", engineName).Int("threads", int(args.GetInt("threads", 1)));
+                               }});
+    }
     auto configJson = [&](JsonLine& j, const Config& c) {
         j.Int("threads", c.threads).Str("schedule", ScheduleName(c.schedule)).Int("chunk", c.chunk)
             .Int("depth", c.depth).Int("threshold", c.parallelThreshold);
@@ -512,11 +424,6 @@ int main(int argc, char** argv)
             std::printf("null engine rep %d: %.3f ms per step (replay loop overhead)\n", r, total / index.steps * 1e-6);
         }
         return 0;
-    }
-    if (engineName != "quadtree")
-    {
-        std::fprintf(stderr, "qp-replay: unknown engine '%s'\n", engineName.c_str());
-        return 2;
     }
 
     int64_t mismatches = 0;
@@ -588,7 +495,13 @@ int main(int argc, char** argv)
                 .Int("occupied_cells", st.occupiedCells).Int("largest_cell", st.largestCell)
                 .Int("memory_bytes", st.memoryBytes).Int("timed_calls", qs.calls).Int("queries", qs.queries)
                 .Int("cells", qs.cells).Int("candidates", qs.candidates).Int("overlaps", qs.overlaps)
-                .Int("pairs", qs.pairs).Int("max_buffered", qs.maxBuffered);
+                .Int("pairs", qs.pairs).Int("max_buffered", qs.maxBuffered)
+                // The memory floor's bytes over the timed steps: each query's fat box, the entries it reads (its
+                // own included), the pairs written.
+                .Int("floor_bytes", int64_t(sizeof(quadphase::Box)) * qs.queries +
+                                        int64_t(sizeof(quadphase::Entry)) * (qs.candidates + qs.queries) +
+                                        int64_t(sizeof(quadphase::Pair)) * qs.pairs)
+                .Int("timed_steps", index.steps);
             std::vector<int64_t> callsIn(qs.callsIn, qs.callsIn + QueryStats::kBuckets);
             std::vector<int64_t> queriesIn(qs.queriesIn, qs.queriesIn + QueryStats::kBuckets);
             std::vector<int> edges(QueryStats::kEdges, QueryStats::kEdges + QueryStats::kBuckets);

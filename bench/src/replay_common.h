@@ -1,4 +1,4 @@
-// Shared by qp-replay (quadtree core) and qp-replay-stock (Box2D 2.4.1's b2BroadPhase): loading a trace and its
+// qp-replay's trace replay, for every engine: loading a trace and its
 // step index, the replay loop and its timing definition, pair-set hashes (tool_common.h: the rest).
 //
 // Timing definition (the same for every engine):
@@ -26,6 +26,13 @@
 #include <string>
 #include <thread>
 #include <vector>
+
+#if __has_include(<valgrind/callgrind.h>)
+#include <valgrind/callgrind.h> // instruction counts of the timed steps only: valgrind --tool=callgrind --instr-atstart=no
+#else
+#define CALLGRIND_START_INSTRUMENTATION
+#define CALLGRIND_STOP_INSTRUMENTATION
+#endif
 
 #include "quadphase/trace.h"
 #include "heap_bytes.h"
@@ -332,6 +339,10 @@ RunResult Replay(const LoadedTrace& loaded, Engine& engine, std::vector<CallHash
         timedCalls += ops[i].kind == TraceOp::UpdatePairs ? 1 : 0;
     }
     result.callNs.reserve(timedCalls); // no allocation inside the timed loop
+    if (!checking)
+    {
+        CALLGRIND_START_INSTRUMENTATION; // a no-op outside valgrind
+    }
     for (int s = 0; s < index.steps; ++s)
     {
         const size_t begin = size_t(index.boundary[size_t(index.warmup + s)]);
@@ -377,6 +388,10 @@ RunResult Replay(const LoadedTrace& loaded, Engine& engine, std::vector<CallHash
         }
         sample.ns = NowNs() - t0 - excluded;
     }
+    if (!checking)
+    {
+        CALLGRIND_STOP_INSTRUMENTATION;
+    }
     return result;
 }
 
@@ -416,7 +431,7 @@ inline void AddRun(JsonLine& j, const RunResult& r)
         .Array("steps_ops", opsCount);
 }
 
-/// The timed runs of qp-replay-stock and qp-replay-others: `repeats` replays, each of a fresh engine from make();
+/// The timed runs of every engine but the quadtree (replay_peers.cpp): `repeats` replays, each of a fresh engine from make();
 /// one JSON line per run (base(j, "run"), the run's heap bytes per proxy as heap_bytes.h measures them, extra(j,
 /// engine), the per-step arrays), a line per run and the median on stdout.
 template <typename Make, typename Base, typename Extra>

@@ -41,6 +41,7 @@
 #include "tool_common.h"
 
 #include "box2d_variant.h"
+#include "phase.h"
 
 namespace
 {
@@ -68,38 +69,14 @@ double Mean(const std::vector<double>& v)
     return v.empty() ? 0.0 : s / double(v.size());
 }
 
-enum Phase
+int AwakeDynamic(const b2World& world)
 {
-    Falling,
-    Piling,
-    Resting,
-    PhaseCount
-};
-constexpr const char* kPhaseName[PhaseCount] = {"falling", "piling", "resting"};
-
-/// The phase the world is in after a step (see the file comment); `previous` keeps it from going back.
-Phase Classify(const b2World& world, Phase previous)
-{
-    int dynamic = 0, landed = 0, moving = 0;
+    int n = 0;
     for (const b2Body* b = world.GetBodyList(); b != nullptr; b = b->GetNext())
     {
-        if (b->GetType() != b2_dynamicBody)
-        {
-            continue;
-        }
-        ++dynamic;
-        moving += b->IsAwake() && b->GetLinearVelocity().LengthSquared() > 0.25f ? 1 : 0;
-        for (const b2ContactEdge* e = b->GetContactList(); e != nullptr; e = e->next)
-        {
-            if (e->contact->IsTouching() && e->other->GetType() == b2_staticBody)
-            {
-                ++landed;
-                break;
-            }
-        }
+        n += b->GetType() == b2_dynamicBody && b->IsAwake() ? 1 : 0;
     }
-    const Phase p = 100 * landed < dynamic ? Falling : (20 * moving < dynamic ? Resting : Piling);
-    return std::max(p, previous);
+    return n;
 }
 
 struct PhaseSamples
@@ -113,9 +90,9 @@ struct PhaseSamples
 int main(int argc, char** argv)
 {
     namespace scenes = quadphase::scenes;
-    const Args args(argc, argv, {"help", "list"});
+    const Args args(argc, argv, {"help", "list", "per-step"});
     const std::vector<std::string> problems = args.Problems(
-        {"scene", "size", "seed", "warmup", "steps", "threads", "ccd", "json", "label", "help", "list"});
+        {"scene", "size", "seed", "warmup", "steps", "threads", "ccd", "json", "label", "help", "list", "per-step"});
     if (args.Has("list"))
     {
         for (const scenes::SceneInfo& info : scenes::AllScenes())
@@ -136,7 +113,7 @@ int main(int argc, char** argv)
         std::fprintf(stderr,
                      "usage: qp-step-%s --scene NAME --size N [--seed S] [--warmup W] [--steps S] [--threads "
                      "T|default]\n"
-                     "       [--ccd scene|on|off] [--json FILE] [--label TEXT]     (--list: scene names and "
+                     "       [--ccd scene|on|off] [--json FILE] [--label TEXT] [--per-step]   (--list: scene names and "
                      "size ranges)\n"
                      "scenes: %s\n",
                      kVariant, scenes::SceneNameList().c_str());
@@ -193,6 +170,7 @@ int main(int argc, char** argv)
     const int64_t filtered0 = filter.calls;
     std::vector<double> step, collide, solve, broadphase, toi;
     PhaseSamples phases[PhaseCount];
+    std::vector<int> stepPhase, stepAwake; // per step: for comparing phases over the same steps in both builds
     double contacts = 0.0;
     const int64_t t0 = NowNs();
     for (int s = 0; s < steps; ++s)
@@ -210,6 +188,8 @@ int main(int argc, char** argv)
         ph.first = ph.first < 0 ? warmup + s : ph.first;
         ph.step.push_back(p.step);
         ph.broadphase.push_back(p.broadphase);
+        stepPhase.push_back(int(phase));
+        stepAwake.push_back(AwakeDynamic(world));
     }
     const double wall = double(NowNs() - t0) * 1e-9;
 
@@ -243,6 +223,11 @@ int main(int argc, char** argv)
         .Num("new_pairs_per_step", double(filter.calls - filtered0) / steps)
         .Num("wall_s", wall)
         .Int("peak_rss_bytes", PeakRss());
+    if (args.Has("per-step"))
+    {
+        j.Array("steps_step_ms", step).Array("steps_bp_ms", broadphase).Array("steps_phase", stepPhase)
+            .Array("steps_awake", stepAwake);
+    }
     for (int k = 0; k < PhaseCount; ++k)
     {
         const std::string name = kPhaseName[k];

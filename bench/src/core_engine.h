@@ -1,0 +1,136 @@
+// qp-replay's engine over a quadphase::BroadPhaseInterface implementation (replay_common.h's Engine concept), with
+// the buffered-proxy tracking the quadtree's checking run uses.
+#pragma once
+
+#include <type_traits>
+#include <vector>
+
+#include "quadphase/quadtree_broad_phase.h"
+#include "replay_common.h"
+
+namespace qpbench
+{
+
+using quadphase::ProxyId;
+
+/// An engine behind quadphase::BroadPhaseInterface: QuadtreeBroadPhase, BruteForceBroadPhase, the paper's design
+/// (the calls below are direct: the classes are final).
+template <typename BP>
+class CoreEngine
+{
+public:
+    template <typename... A>
+    explicit CoreEngine(A&&... a)
+        : m_bp(std::forward<A>(a)...)
+    {
+    }
+
+    int32_t Create(const Box& tight, int32_t recorded)
+    {
+        const ProxyId id = m_bp.CreateProxy(tight, reinterpret_cast<void*>(intptr_t(recorded)));
+        if (m_track)
+        {
+            Mark(id);
+        }
+        return id;
+    }
+    void Destroy(int32_t id) { m_bp.DestroyProxy(id); }
+    void Move(int32_t id, const Box& tight, Vec2 d)
+    {
+        if constexpr (std::is_same_v<BP, quadphase::QuadtreeBroadPhase>)
+        {
+            if (!m_track)
+            {
+                m_bp.QueueMove(id, tight, d); // what the Box2D adapter calls (b2BroadPhase::MoveProxy)
+                return;
+            }
+        }
+        const bool buffered = m_bp.MoveProxy(id, tight, d);
+        if (m_track && buffered)
+        {
+            Mark(id);
+        }
+    }
+    void Touch(int32_t id)
+    {
+        m_bp.TouchProxy(id);
+        if (m_track)
+        {
+            Mark(id);
+        }
+    }
+    void UpdatePairs()
+    {
+        m_pairs.clear();
+        m_bp.FindPairs(m_pairs);
+    }
+    void ShiftOrigin(Vec2 o) { m_bp.ShiftOrigin(o); }
+    int32_t ProxyCount() const { return m_bp.GetProxyCount(); }
+    size_t PairCount() const { return m_pairs.size(); }
+    void PairKeys(std::vector<uint64_t>& keys) const
+    {
+        for (const quadphase::Pair& p : m_pairs)
+        {
+            keys.push_back(PairKey(int32_t(intptr_t(m_bp.GetUserData(p.a))), int32_t(intptr_t(m_bp.GetUserData(p.b)))));
+        }
+    }
+    void BeginTimedSteps()
+    {
+        if constexpr (std::is_same_v<BP, quadphase::QuadtreeBroadPhase>)
+        {
+            m_bp.ResetCounters();
+        }
+    }
+
+    BP& Get() { return m_bp; }
+
+    // Buffered-proxy tracking for the checking run: the live proxies that the next UpdatePairs will query.
+    void SetTracking(bool on) { m_track = on; }
+    std::vector<ProxyId> TakeBuffered()
+    {
+        std::vector<ProxyId> live;
+        for (ProxyId id : m_buffered)
+        {
+            m_flag[size_t(id)] = 0;
+            if (IsLive(id))
+            {
+                live.push_back(id);
+            }
+        }
+        m_buffered.clear();
+        return live;
+    }
+
+private:
+    bool IsLive(ProxyId id) const
+    {
+        if constexpr (std::is_same_v<BP, quadphase::QuadtreeBroadPhase>)
+        {
+            return m_bp.GetPool().IsLive(id);
+        }
+        else
+        {
+            return true;
+        }
+    }
+    void Mark(ProxyId id)
+    {
+        if (size_t(id) >= m_flag.size())
+        {
+            m_flag.resize(size_t(id) * 2 + 16, 0);
+        }
+        if (!m_flag[size_t(id)])
+        {
+            m_flag[size_t(id)] = 1;
+            m_buffered.push_back(id);
+        }
+    }
+
+    BP m_bp;
+    std::vector<quadphase::Pair> m_pairs;
+    bool m_track = false;
+    std::vector<uint8_t> m_flag;
+    std::vector<ProxyId> m_buffered;
+};
+
+} // namespace qpbench

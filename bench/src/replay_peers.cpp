@@ -1,0 +1,606 @@
+// qp-replay's engines other than the quadtree core (replay.cpp): stock Box2D 2.4.1's b2BroadPhase (the reference
+// line and pair sets), brute force, the paper's design, Chipmunk2D, Bullet, and the oracle floor. Same replay and
+// timing definition as the quadtree (replay_common.h). Engine names (--engine):
+//
+//   stock                b2BroadPhase; --hashes-out writes its pair-set hashes (the exactness reference)
+//   brute                quadphase::BruteForceBroadPhase (refused above --max-proxies, default 20000)
+//   paper                the paper's design (bench/baselines), levels --levels (auto: leaves about twice the mean fat
+//                        box), --threads; APPROXIMATE: the check counts its missed, duplicate and extra pairs
+//   cp-hash-xK           Chipmunk2D's cpSpaceHash, cell side K x the mean fat box side (K = 0.5, 1, 2, 4, 8, ...)
+//   cp-tree              Chipmunk2D's cpBBTree
+//   bt-dbvt              Bullet's btDbvtBroadphase
+//   bt-sap               Bullet's bt32BitAxisSweep3 over the trace's bounds (native mode only, below)
+//   oracle               the output alone: Box2D's protocol with the pairs of every query known in advance
+//
+// Two modes. Box2D's protocol (the names above): the engine keeps Box2D's fat boxes (FattenNew / Refatten,
+// bit-identical to Box2D's) and move buffer, re-indexes a proxy when its fat box changes, and at UpdatePairs
+// queries the index with every buffered proxy's fat box, keeping the ids whose fat boxes overlap it; its pairs
+// are stock's by definition, checked call by call against stock's hashes (--compare-hashes; exit 3 on a mismatch).
+// Native mode (suffix "-native", "-mM" for the displacement multiplier of the fat boxes, default Box2D's 4): the
+// peer's own per-step loop, which cannot express Box2D's contract (the pairs of the moved proxies only): it hands
+// over every overlapping pair each step (Chipmunk's cpSpatialIndexReindexQuery; Bullet's calculateOverlappingPairs
+// and its pair cache), filtered by the fat-box test into a vector. Checked call by call against the set of all
+// overlapping fat-box pairs at that call (a sort-and-sweep over the engine's boxes).
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "b2_box.h"
+#include "box2d/b2_broad_phase.h"
+#include "core_engine.h"
+#include "paper_quadtree.h"
+#include "peer_indexes.h"
+#include "quadphase/brute_force_broad_phase.h"
+#include "quadphase/fat_policy.h"
+#include "replay_common.h"
+#include "replay_peers.h"
+
+namespace qpbench
+{
+namespace
+{
+
+using quadphase::ProxyId;
+using PairList = std::vector<std::pair<int32_t, int32_t>>;
+
+void AddKeys(const PairList& pairs, std::vector<uint64_t>& keys)
+{
+    for (const auto& p : pairs)
+    {
+        keys.push_back(PairKey(p.first, p.second));
+    }
+}
+
+class StockEngine
+{
+public:
+    int32_t Create(const Box& tight, int32_t recorded)
+    {
+        return m_bp.CreateProxy(ToAabb(tight), reinterpret_cast<void*>(intptr_t(recorded)));
+    }
+    void Destroy(int32_t id) { m_bp.DestroyProxy(id); }
+    void Move(int32_t id, const Box& tight, Vec2 d) { m_bp.MoveProxy(id, ToAabb(tight), b2Vec2(d.x, d.y)); }
+    void Touch(int32_t id) { m_bp.TouchProxy(id); }
+    void UpdatePairs()
+    {
+        m_pairs.clear();
+        m_bp.UpdatePairs(this);
+    }
+    void ShiftOrigin(Vec2 o) { m_bp.ShiftOrigin(b2Vec2(o.x, o.y)); }
+    int32_t ProxyCount() const { return m_bp.GetProxyCount(); }
+    size_t PairCount() const { return m_pairs.size(); }
+    void PairKeys(std::vector<uint64_t>& keys) const { AddKeys(m_pairs, keys); }
+    void BeginTimedSteps() {}
+    void AddPair(void* a, void* b) { m_pairs.emplace_back(int32_t(intptr_t(a)), int32_t(intptr_t(b))); }
+    const b2BroadPhase& Get() const { return m_bp; }
+
+private:
+    b2BroadPhase m_bp;
+    PairList m_pairs;
+};
+
+/// The paper's design beside the quadtree core (exact): counts, per call, the pairs it misses, repeats or adds.
+class PaperChecked
+{
+public:
+    PaperChecked(int levels, const Box& bounds, int threads)
+        : m_paper(levels, bounds, threads, quadphase::Schedule::Static, quadphase::bench::PaperPairReport::Buffered),
+          m_ref(quadphase::FatPolicy{}, SerialConfig())
+    {
+    }
+    int32_t Create(const Box& tight, int32_t recorded)
+    {
+        const int32_t id = m_paper.Create(tight, recorded);
+        m_refId.resize(std::max(m_refId.size(), size_t(id) + 1), -1);
+        m_refId[size_t(id)] = m_ref.Create(tight, recorded);
+        return id;
+    }
+    void Destroy(int32_t id) { m_paper.Destroy(id), m_ref.Destroy(m_refId[size_t(id)]); }
+    void Move(int32_t id, const Box& tight, Vec2 d) { m_paper.Move(id, tight, d), m_ref.Move(m_refId[size_t(id)], tight, d); }
+    void Touch(int32_t id) { m_paper.Touch(id), m_ref.Touch(m_refId[size_t(id)]); }
+    void ShiftOrigin(Vec2 o) { m_paper.ShiftOrigin(o), m_ref.ShiftOrigin(o); }
+    void UpdatePairs()
+    {
+        m_paper.UpdatePairs();
+        m_ref.UpdatePairs();
+        std::vector<uint64_t> mine, ref, diff;
+        m_paper.PairKeys(mine);
+        m_ref.PairKeys(ref);
+        const size_t reported = mine.size();
+        HashPairKeys(mine);
+        HashPairKeys(ref);
+        std::set_difference(ref.begin(), ref.end(), mine.begin(), mine.end(), std::back_inserter(diff));
+        missed += int64_t(diff.size());
+        diff.clear();
+        std::set_difference(mine.begin(), mine.end(), ref.begin(), ref.end(), std::back_inserter(diff));
+        extra += int64_t(diff.size());
+        duplicates += int64_t(reported - mine.size());
+        exact += int64_t(ref.size());
+    }
+    int32_t ProxyCount() const { return m_paper.ProxyCount(); }
+    size_t PairCount() const { return m_paper.PairCount(); }
+    void PairKeys(std::vector<uint64_t>& keys) const { m_paper.PairKeys(keys); }
+    void BeginTimedSteps() {}
+
+    int64_t missed = 0, duplicates = 0, extra = 0, exact = 0;
+
+private:
+    static quadphase::Config SerialConfig()
+    {
+        quadphase::Config c;
+        c.threads = 1; // the reference need not be fast; one thread keeps it off a busy machine's other core
+        return c;
+    }
+    CoreEngine<quadphase::bench::PaperQuadtreeBroadPhase> m_paper;
+    CoreEngine<quadphase::QuadtreeBroadPhase> m_ref;
+    std::vector<int32_t> m_refId;
+};
+
+/// Fat boxes (FatPolicy) of the live proxies, with recorded ids: what both modes keep beside a foreign index.
+struct FatBoxes
+{
+    quadphase::FatPolicy policy;
+    std::vector<Box> fat;
+    std::vector<int32_t> recorded, freeIds;
+    std::vector<uint8_t> live, buffered;
+    int32_t count = 0;
+
+    int32_t Add(const Box& tight, int32_t rec)
+    {
+        int32_t id = int32_t(fat.size());
+        if (!freeIds.empty())
+        {
+            id = freeIds.back();
+            freeIds.pop_back();
+        }
+        else
+        {
+            fat.emplace_back(), recorded.push_back(-1), live.push_back(0), buffered.push_back(0);
+        }
+        fat[size_t(id)] = quadphase::FattenNew(policy, tight);
+        recorded[size_t(id)] = rec;
+        live[size_t(id)] = 1;
+        ++count;
+        return id;
+    }
+    void Remove(int32_t id)
+    {
+        live[size_t(id)] = 0;
+        --count;
+        freeIds.push_back(id);
+    }
+    /// Every pair of live proxies whose fat boxes overlap, in recorded ids (sort and sweep on minX; untimed).
+    void AllOverlapKeys(std::vector<uint64_t>& keys) const
+    {
+        std::vector<int32_t> order;
+        for (size_t i = 0; i < fat.size(); ++i)
+        {
+            if (live[i])
+            {
+                order.push_back(int32_t(i));
+            }
+        }
+        std::sort(order.begin(), order.end(), [&](int32_t a, int32_t b) { return fat[size_t(a)].minX < fat[size_t(b)].minX; });
+        for (size_t i = 0; i < order.size(); ++i)
+        {
+            const Box& a = fat[size_t(order[i])];
+            for (size_t j = i + 1; j < order.size() && fat[size_t(order[j])].minX <= a.maxX; ++j)
+            {
+                if (quadphase::Overlaps(a, fat[size_t(order[j])]))
+                {
+                    keys.push_back(PairKey(recorded[size_t(order[i])], recorded[size_t(order[j])]));
+                }
+            }
+        }
+    }
+};
+
+/// Fat boxes beside a foreign index that holds the same boxes (both modes).
+template <typename Index>
+struct Indexed
+{
+    template <typename... A>
+    explicit Indexed(A&&... a) : index(&b.fat, std::forward<A>(a)...)
+    {
+    }
+    int32_t Insert(const Box& tight, int32_t recorded)
+    {
+        const int32_t id = b.Add(tight, recorded);
+        index.Insert(id, b.fat[size_t(id)]);
+        return id;
+    }
+    void Erase(int32_t id) { index.Remove(id), b.Remove(id); }
+    /// Box2D's fat-box test; re-indexes and returns true when the fat box changed.
+    bool Refit(int32_t id, const Box& tight, Vec2 d)
+    {
+        const bool changed = quadphase::Refatten(b.policy, b.fat[size_t(id)], tight, d);
+        if (changed)
+        {
+            index.Update(id, b.fat[size_t(id)]);
+        }
+        return changed;
+    }
+    FatBoxes b;
+    Index index;
+};
+
+/// Box2D's protocol over a foreign index (see the file comment), or, with Index::kOracle, over no index at all.
+template <typename Index>
+class ProtocolEngine
+{
+public:
+    template <typename... A>
+    explicit ProtocolEngine(A&&... a) : m_x(std::forward<A>(a)...)
+    {
+    }
+    int32_t Create(const Box& tight, int32_t recorded)
+    {
+        const int32_t id = m_x.Insert(tight, recorded);
+        Buffer(id);
+        return id;
+    }
+    void Destroy(int32_t id) { m_x.Erase(id); }
+    void Move(int32_t id, const Box& tight, Vec2 d)
+    {
+        if (m_x.Refit(id, tight, d))
+        {
+            Buffer(id);
+        }
+    }
+    void Touch(int32_t id) { Buffer(id); }
+    void UpdatePairs()
+    {
+        m_pairs.clear();
+        for (int32_t q : m_moveBuffer)
+        {
+            if (!m_b.live[size_t(q)])
+            {
+                continue;
+            }
+            const size_t before = m_pairs.size();
+            if constexpr (Index::kOracle)
+            {
+                m_index.Append(m_pairs);
+            }
+            else
+            {
+                const Box qb = m_b.fat[size_t(q)];
+                m_index.Query(qb, [&](int32_t o) {
+                    // Box2D's rule: when both are buffered, only the query of the smaller id reports the pair.
+                    if (o != q && m_b.live[size_t(o)] && !(m_b.buffered[size_t(o)] && o < q) &&
+                        quadphase::Overlaps(m_b.fat[size_t(o)], qb))
+                    {
+                        m_pairs.emplace_back(m_b.recorded[size_t(q)], m_b.recorded[size_t(o)]);
+                    }
+                });
+            }
+            if (perQuery != nullptr)
+            {
+                perQuery->push_back(int32_t(m_pairs.size() - before));
+            }
+        }
+        if (allPairs != nullptr)
+        {
+            allPairs->insert(allPairs->end(), m_pairs.begin(), m_pairs.end());
+        }
+        for (int32_t q : m_moveBuffer)
+        {
+            m_b.buffered[size_t(q)] = 0;
+        }
+        m_moveBuffer.clear();
+    }
+    void ShiftOrigin(Vec2) { std::fprintf(stderr, "qp-replay: ShiftOrigin is not supported here\n"), std::exit(1); }
+    int32_t ProxyCount() const { return m_b.count; }
+    size_t PairCount() const { return m_pairs.size(); }
+    void PairKeys(std::vector<uint64_t>& keys) const { AddKeys(m_pairs, keys); }
+    void BeginTimedSteps() {}
+
+    std::vector<int32_t>* perQuery = nullptr; // preparing the oracle: pairs per query, and all pairs in order
+    PairList* allPairs = nullptr;
+
+private:
+    void Buffer(int32_t id)
+    {
+        if (!m_b.buffered[size_t(id)])
+        {
+            m_b.buffered[size_t(id)] = 1;
+            m_moveBuffer.push_back(id);
+        }
+    }
+    Indexed<Index> m_x;
+    FatBoxes& m_b = m_x.b;
+    Index& m_index = m_x.index;
+    std::vector<int32_t> m_moveBuffer;
+    PairList m_pairs;
+};
+
+/// The peer's own loop (see the file comment): every overlapping fat-box pair, each step.
+template <typename Index>
+class NativeEngine
+{
+public:
+    template <typename... A>
+    explicit NativeEngine(float multiplier, A&&... a) : m_x(std::forward<A>(a)...)
+    {
+        m_b.policy.multiplier = multiplier;
+    }
+    int32_t Create(const Box& tight, int32_t recorded) { return m_x.Insert(tight, recorded); }
+    void Destroy(int32_t id) { m_x.Erase(id); }
+    void Move(int32_t id, const Box& tight, Vec2 d) { m_x.Refit(id, tight, d); }
+    void Touch(int32_t) {} // every pair is reported anyway
+    void UpdatePairs()
+    {
+        m_pairs.clear();
+        m_index.AllPairs([&](int32_t a, int32_t b) {
+            if (quadphase::Overlaps(m_b.fat[size_t(a)], m_b.fat[size_t(b)]))
+            {
+                m_pairs.emplace_back(m_b.recorded[size_t(a)], m_b.recorded[size_t(b)]);
+            }
+        });
+    }
+    void ShiftOrigin(Vec2) { std::fprintf(stderr, "qp-replay: ShiftOrigin is not supported here\n"), std::exit(1); }
+    int32_t ProxyCount() const { return m_b.count; }
+    size_t PairCount() const { return m_pairs.size(); }
+    void PairKeys(std::vector<uint64_t>& keys) const { AddKeys(m_pairs, keys); }
+    void BeginTimedSteps() {}
+    const FatBoxes& Boxes() const { return m_b; }
+
+private:
+    Indexed<Index> m_x;
+    FatBoxes& m_b = m_x.b;
+    Index& m_index = m_x.index;
+    PairList m_pairs;
+};
+
+/// Checks a native engine after every UpdatePairs: its unique pair set against all overlapping fat-box pairs.
+struct NativeCheck
+{
+    int64_t calls = 0, mismatches = 0, duplicates = 0;
+    template <typename Engine>
+    void BeforeUpdatePairs(Engine&, bool)
+    {
+    }
+    template <typename Engine>
+    void AfterUpdatePairs(Engine& engine, bool)
+    {
+        std::vector<uint64_t> mine, ref;
+        engine.PairKeys(mine);
+        const size_t reported = mine.size();
+        HashPairKeys(mine);
+        engine.Boxes().AllOverlapKeys(ref);
+        HashPairKeys(ref);
+        duplicates += int64_t(reported - mine.size());
+        if (mine != ref && mismatches++ < 5)
+        {
+            std::fprintf(stderr, "MISMATCH at UpdatePairs call %lld: %zu pairs, %zu overlapping\n",
+                         static_cast<long long>(calls), mine.size(), ref.size());
+        }
+        ++calls;
+    }
+};
+
+/// Trace geometry: bounds of every finite box, mean fat box side of the created proxies.
+struct Geometry
+{
+    Box bounds{0, 0, 0, 0};
+    double meanSide = 1.0;
+};
+
+Geometry Measure(const LoadedTrace& loaded)
+{
+    Geometry g;
+    bool first = true;
+    double sideSum = 0.0;
+    int64_t created = 0;
+    for (const TraceOp& op : loaded.trace.Ops())
+    {
+        const Box& b = op.box;
+        if ((op.kind != TraceOp::Create && op.kind != TraceOp::Move) ||
+            !(std::isfinite(b.minX) && std::isfinite(b.minY) && std::isfinite(b.maxX) && std::isfinite(b.maxY)))
+        {
+            continue;
+        }
+        g.bounds = first ? b : Box{std::min(g.bounds.minX, b.minX), std::min(g.bounds.minY, b.minY),
+                                   std::max(g.bounds.maxX, b.maxX), std::max(g.bounds.maxY, b.maxY)};
+        first = false;
+        if (op.kind == TraceOp::Create)
+        {
+            sideSum += 0.5 * (double(b.maxX - b.minX) + double(b.maxY - b.minY)) + 0.2;
+            ++created;
+        }
+    }
+    g.meanSide = created > 0 ? sideSum / double(created) : 1.0;
+    return g;
+}
+
+/// The paper's level whose leaves are closest to twice the mean fat box side (its tables favour leaves a little
+/// larger than the objects).
+int AutoLevels(const Geometry& g)
+{
+    const double side = std::max(double(g.bounds.maxX - g.bounds.minX), double(g.bounds.maxY - g.bounds.minY));
+    int best = 1;
+    for (int levels = 1; levels <= quadphase::bench::PaperQuadtreeBroadPhase::kMaxLevels; ++levels)
+    {
+        best = side / double(1 << (levels - 1)) >= 2.0 * g.meanSide ? levels : best;
+    }
+    return best;
+}
+
+template <typename T, typename = void>
+struct HasBoxes : std::false_type
+{
+};
+template <typename T>
+struct HasBoxes<T, std::void_t<decltype(&T::Boxes)>> : std::true_type
+{
+};
+
+/// Untimed check, then the timed runs. `kind`: "protocol" (hashes against --compare-hashes, or written to
+/// --hashes-out), "native" (NativeCheck) or "none".
+template <typename Engine, typename Make>
+int RunEngine(const PeerRun& run, Make make, const char* kind)
+{
+    const std::string check = run.args.Get("check", "first");
+    int64_t bad = 0;
+    if (check != "none" && std::string(kind) != "none")
+    {
+        std::unique_ptr<Engine> engine = make();
+        JsonLine j;
+        run.base(j, "check");
+        std::vector<CallHash> hashes;
+        int64_t calls = 0;
+        if constexpr (HasBoxes<Engine>::value)
+        {
+            NativeCheck nc;
+            Replay(run.loaded, *engine, nullptr, &nc);
+            bad = nc.mismatches, calls = nc.calls;
+            j.Int("duplicates", nc.duplicates).Str("checked_against", "all overlapping fat-box pairs");
+        }
+        else
+        {
+            Replay(run.loaded, *engine, &hashes);
+            calls = int64_t(hashes.size());
+            std::vector<CallHash> reference;
+            const std::string out = run.args.Get("hashes-out"), in = run.args.Get("compare-hashes");
+            if (!out.empty() && !SaveHashes(out, hashes))
+            {
+                std::fprintf(stderr, "qp-replay: cannot write %s\n", out.c_str());
+                return 1;
+            }
+            if (!in.empty() && !LoadHashes(in, reference))
+            {
+                std::fprintf(stderr, "qp-replay: cannot read hashes from %s\n", in.c_str());
+                return 1;
+            }
+            bad = reference.empty() ? 0 : CompareHashes(hashes, reference, run.engine.c_str(), "stock");
+            j.Str("checked_against", reference.empty() ? "" : "stock").Int("compared_file", reference.empty() ? 0 : 1);
+        }
+        std::printf("check %s: %lld calls, %s\n", run.engine.c_str(), static_cast<long long>(calls),
+                    bad ? "MISMATCH" : "exact");
+        j.Int("calls_hashed", calls).Int("mismatches", bad);
+        AppendLine(run.args.Get("json"), j.Text());
+    }
+    TimedRuns(run.loaded, run.engine.c_str(), int(run.args.GetInt("repeats", 5)), run.args.Get("json"), make, run.base,
+              [](JsonLine&, const Engine&) {});
+    return bad != 0 ? 3 : 0;
+}
+
+} // namespace
+
+int RunPeer(const PeerRun& run)
+{
+    const std::string& e = run.engine;
+    const LoadedTrace& loaded = run.loaded;
+    const Geometry g = Measure(loaded);
+    const bool native = e.find("-native") != std::string::npos;
+    const size_t x = e.find("-x"), m = e.find("-m");
+    const double cellScale = x == std::string::npos ? 1.0 : std::atof(e.c_str() + x + 2);
+    const float multiplier = m == std::string::npos ? 4.0f : float(std::atof(e.c_str() + m + 2));
+    const std::string base = e.substr(0, std::min({e.find("-native"), x, m}));
+    const char* mode = native ? "native" : "protocol";
+    if (base == "stock")
+    {
+        return RunEngine<StockEngine>(run, [] { return std::make_unique<StockEngine>(); }, mode);
+    }
+    if (base == "brute")
+    {
+        const long maxProxies = run.args.GetInt("max-proxies", 20000);
+        if (loaded.steps.proxies > maxProxies)
+        {
+            std::fprintf(stderr, "qp-replay: brute force on %lld proxies (> --max-proxies %ld) refused\n",
+                         static_cast<long long>(loaded.steps.proxies), maxProxies);
+            return 2;
+        }
+        using E = CoreEngine<quadphase::BruteForceBroadPhase>;
+        return RunEngine<E>(run, [] { return std::make_unique<E>(); }, mode);
+    }
+    if (base == "paper")
+    {
+        const std::string l = run.args.Get("levels", "auto");
+        const int levels = l == "auto" ? AutoLevels(g) : std::atoi(l.c_str());
+        const int threads = int(run.args.GetInt("threads", 1));
+        if (levels < quadphase::bench::PaperQuadtreeBroadPhase::kMinLevels ||
+            levels > quadphase::bench::PaperQuadtreeBroadPhase::kMaxLevels)
+        {
+            std::fprintf(stderr, "qp-replay: --levels must be auto or 1..9\n");
+            return 2;
+        }
+        if (run.args.Get("check", "first") != "none")
+        {
+            PaperChecked checked(levels, g.bounds, threads);
+            Replay(loaded, checked);
+            std::printf("check paper: %lld exact pairs; missed %lld, duplicates %lld, extra %lld\n",
+                        static_cast<long long>(checked.exact), static_cast<long long>(checked.missed),
+                        static_cast<long long>(checked.duplicates), static_cast<long long>(checked.extra));
+            JsonLine j;
+            run.base(j, "paper_check");
+            j.Int("exact_pairs", checked.exact).Int("missed", checked.missed).Int("duplicates", checked.duplicates)
+                .Int("extra", checked.extra).Int("levels", levels);
+            AppendLine(run.args.Get("json"), j.Text());
+        }
+        using E = CoreEngine<quadphase::bench::PaperQuadtreeBroadPhase>;
+        return RunEngine<E>(run, [&] {
+            return std::make_unique<E>(levels, g.bounds, threads, quadphase::Schedule::Static,
+                                       quadphase::bench::PaperPairReport::Buffered);
+        }, "none");
+    }
+    if (base == "oracle")
+    {
+        // Untimed: an exact index's pairs, query by query, in the order the oracle's own move buffer asks.
+        auto prep = std::make_unique<ProtocolEngine<QuadIndex>>();
+        std::vector<int32_t> perQuery;
+        PairList pairs;
+        prep->perQuery = &perQuery;
+        prep->allPairs = &pairs;
+        Replay(loaded, *prep);
+        prep.reset();
+        using E = ProtocolEngine<OracleIndex>;
+        return RunEngine<E>(run, [&] { return std::make_unique<E>(pairs, perQuery); }, "protocol");
+    }
+#if QP_HAVE_CHIPMUNK
+    if (base == "cp-hash" || base == "cp-tree")
+    {
+        const bool hash = base == "cp-hash";
+        const double cell = cellScale * g.meanSide;
+        const int cells = int(std::max<int64_t>(1000, 10 * loaded.steps.proxies));
+        if (native)
+        {
+            using E = NativeEngine<ChipmunkIndex>;
+            return RunEngine<E>(run, [&] { return std::make_unique<E>(multiplier, hash, cell, cells); }, mode);
+        }
+        using E = ProtocolEngine<ChipmunkIndex>;
+        return RunEngine<E>(run, [&] { return std::make_unique<E>(hash, cell, cells); }, mode);
+    }
+#endif
+#if QP_HAVE_BULLET
+    if (base == "bt-dbvt" || base == "bt-sap")
+    {
+        const bool sap = base == "bt-sap";
+        // The SAP's world: the trace's bounds and a margin for the fat boxes (a box beyond it is clamped: more
+        // candidates, never fewer).
+        const float pad = 0.1f * std::max(g.bounds.maxX - g.bounds.minX, g.bounds.maxY - g.bounds.minY) + 1.0f;
+        const Box world{g.bounds.minX - pad, g.bounds.minY - pad, g.bounds.maxX + pad, g.bounds.maxY + pad};
+        const int maxProxies = loaded.idBound;
+        if (native)
+        {
+            using E = NativeEngine<BulletIndex>;
+            return RunEngine<E>(run, [&] { return std::make_unique<E>(multiplier, true, sap, world, maxProxies); }, mode);
+        }
+        if (sap)
+        {
+            std::fprintf(stderr, "qp-replay: bt-sap runs in native mode only (its aabbTest is a linear scan)\n");
+            return 2;
+        }
+        using E = ProtocolEngine<BulletIndex>;
+        return RunEngine<E>(run, [&] { return std::make_unique<E>(false, false, world, maxProxies); }, mode);
+    }
+#endif
+    std::fprintf(stderr, "qp-replay: engine '%s' is unknown or not built here (Chipmunk %s, Bullet %s)\n", e.c_str(),
+                 QP_HAVE_CHIPMUNK ? "found" : "not found", QP_HAVE_BULLET ? "found" : "not found");
+    return 2;
+}
+
+} // namespace qpbench
