@@ -311,7 +311,7 @@ TEST_CASE("Refatten: the documented examples", "[fat]")
     REQUIRE(SameBox(huge, stored));
 }
 
-TEST_CASE("SIMD fat-box test and overlap test equal the scalar ones bit for bit, special values included", "[fat]")
+TEST_CASE("SIMD fat-box, overlap and sanity tests equal the scalar ones bit for bit, special values included", "[fat]")
 {
     // Values that probe every compare and addition: signed zeros, infinities, NaN, denormals, huge and tiny.
     const float special[] = {0.0f, -0.0f, 1.0f, -1.0f, 0.1f, -0.1f, 1e-40f, -1e-40f, 3e38f, -3e38f,
@@ -363,6 +363,8 @@ TEST_CASE("SIMD fat-box test and overlap test equal the scalar ones bit for bit,
         (ra ? changed : kept) += 1;
 
         const Box q{pick(anything), pick(anything), pick(anything), pick(anything)};
+        REQUIRE(IsSane(q) == IsSaneSimd(q));
+        REQUIRE(IsSane(tight) == IsSaneSimd(tight));
         const bool oa = Overlaps(stored, q);
         REQUIRE(oa == OverlapsPrepared(stored, Prepare(q)));
         overlapping += oa ? 1 : 0;

@@ -57,6 +57,17 @@ inline bool OverlapsPrepared(const Box& e, const PreparedBox& query)
     return _mm_movemask_ps(_mm_cmple_ps(lhs, query.v)) == 0xF;
 }
 
+/// IsSane (box.h): every coordinate finite (x - x is 0 exactly for finite x, NaN for infinities and NaN) and
+/// min <= max on both axes. QueueMove tests every moving body's box with it.
+inline bool IsSaneSimd(const Box& b)
+{
+    const __m128 v = simd_detail::Load(b);
+    const __m128 finite = _mm_cmpeq_ps(_mm_sub_ps(v, v), _mm_setzero_ps());
+    const __m128 ordered = _mm_cmple_ps(_mm_shuffle_ps(v, v, _MM_SHUFFLE(1, 0, 1, 0)),
+                                        _mm_shuffle_ps(v, v, _MM_SHUFFLE(3, 2, 3, 2)));
+    return _mm_movemask_ps(_mm_and_ps(finite, ordered)) == 0xF;
+}
+
 /// RefattenNoBranch (fat_policy.h), lane by lane: the same additions in the same order on the same floats, and
 /// the same compares, so the stored box comes out bit-identical.
 inline bool RefattenSimd(const FatPolicy& policy, Box& stored, const Box& tight, Vec2 displacement)
@@ -112,6 +123,11 @@ inline bool OverlapsPrepared(const Box& e, const PreparedBox& query)
 inline bool RefattenSimd(const FatPolicy& policy, Box& stored, const Box& tight, Vec2 displacement)
 {
     return RefattenNoBranch(policy, stored, tight, displacement);
+}
+
+inline bool IsSaneSimd(const Box& b)
+{
+    return IsSane(b);
 }
 
 #endif

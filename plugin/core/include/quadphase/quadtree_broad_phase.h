@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "quadphase/box_mirror.h"
+#include "quadphase/box_simd.h"
 #include "quadphase/broad_phase_interface.h"
 #include "quadphase/config.h"
 #include "quadphase/fat_policy.h"
@@ -68,7 +69,7 @@ public:
         // id, bad box, a second move of the proxy, timing on) takes the out-of-line path.
         // int operands: & on bools is what is meant (no short-circuit branches), and clang warns otherwise.
         if (__builtin_expect(
-                int(m_pool.IsLiveAndNotPending(id)) & int(IsSane(tight)) & int(m_queuedCount < m_fastRoom), 1))
+                int(m_pool.IsLiveAndNotPending(id)) & int(IsSaneSimd(tight)) & int(m_queuedCount < m_fastRoom), 1))
         {
             m_pool.MarkPending(id);
             // Field by field into the slot: a temporary QueuedMove copied in as a whole was a store-forwarding
