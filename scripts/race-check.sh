@@ -10,7 +10,7 @@ set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
 if [[ "${QUADPHASE_SKIP_DEPS:-0}" != 1 ]]; then
-    scripts/install-deps.sh >&2
+    scripts/install-deps.sh --for race >&2
 fi
 
 build_dir=${BUILD_DIR:-build-tsan}

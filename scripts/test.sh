@@ -15,7 +15,7 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
 # Dependencies first (a no-op when everything is installed).
 if [[ "${QUADPHASE_SKIP_DEPS:-0}" != 1 ]]; then
-    scripts/install-deps.sh >&2
+    scripts/install-deps.sh --for test >&2
 fi
 
 build_dir=${BUILD_DIR:-build}

@@ -52,7 +52,7 @@ if [[ ! "$wait_seconds" =~ ^[0-9]+$ ]]; then
 fi
 
 if [[ "${QUADPHASE_SKIP_DEPS:-0}" != 1 ]]; then
-    scripts/install-deps.sh >&2
+    scripts/install-deps.sh --for testbed >&2
 fi
 if [[ "${QUADPHASE_SKIP_BUILD:-0}" != 1 ]]; then
     configure_args=(-S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DQUADPHASE_TESTBED=ON
@@ -92,7 +92,7 @@ names=("$@")
 needed=(Xvfb ffmpeg)
 [[ -n "${XDOTOOL:-}" ]] && needed+=(xdotool)
 for cmd in "${needed[@]}"; do
-    command -v "$cmd" >/dev/null || { echo "testbed-screenshot: $cmd not found (scripts/install-deps.sh)" >&2; exit 1; }
+    command -v "$cmd" >/dev/null || { echo "testbed-screenshot: $cmd not found (scripts/install-deps.sh --for testbed)" >&2; exit 1; }
 done
 mkdir -p "$out_dir"
 out_dir=$(cd "$out_dir" && pwd)
