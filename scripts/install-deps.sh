@@ -24,7 +24,8 @@ set -euo pipefail
 core=(
     cmake g++ make
     catch2                  # Catch2 2.x (find_package(Catch2 2))
-    pkg-config libcairo2-dev fonts-dejavu-core  # quadphase-scene (examples/scene_cli): PNG frames and their text
+    libcairo2-dev fonts-dejavu-core  # quadphase-scene (examples/scene_cli): PNG frames and their text
+    pkg-config              # cairo; tests/package: a game finding Box2D through pkg-config box2d
     ca-certificates xz-utils
     debian-archive-keyring  # verifies the Debian archive when CMake fetches Box2D's source
 )

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <exception>
 #include <limits>
 #include <new>
@@ -183,6 +184,7 @@ bool QuadtreeBroadPhase::MoveProxy(ProxyId id, const Box& tight, Vec2 displaceme
     {
         return false;
     }
+    m_mirror.Write(id, fat);
     ++m_mutations;
     if (m_pool.MarkStale(id))
     {
@@ -301,7 +303,9 @@ void QuadtreeBroadPhase::ApplyQueued(int threads)
     //    bytes, so threads set them without a lock; only the lists' concatenation is left to one thread.
     // Captured by value: through references the compiler reloads them after every flag store (char stores may
     // alias anything).
-    auto applyRange = [queued, fat, policy, &pool, &pyramid](int64_t begin, int64_t end, ThreadLists& lists) {
+    const BoxMirror mirror = m_mirror;
+    auto applyRange = [queued, fat, policy, mirror, &pool, &pyramid](int64_t begin, int64_t end,
+                                                                       ThreadLists& lists) {
         std::vector<ProxyId>& buffered = lists.buffered;
         std::vector<ProxyId>& stale = lists.stale;
         buffered.resize(size_t(end - begin)); // within the capacity reserved above: no allocation here
@@ -321,6 +325,10 @@ void QuadtreeBroadPhase::ApplyQueued(int threads)
         for (size_t k = 0; k < n; ++k)
         {
             const ProxyId id = queued[out[k]].id; // read before out[nb] (nb <= k) is written
+            if (mirror.Enabled())
+            {
+                mirror.Write(id, fat[id]); // each id is queued once: one thread writes its record
+            }
             if (!pyramid.RewriteInPlace(id, fat[id], outsideDelta) && pool.MarkStale(id))
             {
                 stale[ns++] = id;
@@ -891,6 +899,7 @@ void QuadtreeBroadPhase::ShiftOrigin(Vec2 newOrigin)
 {
     ApplyQueuedIfAny(); // queued boxes are in the old frame
     m_pool.ShiftOrigin(newOrigin);
+    WriteMirrorOfAll();
     // The world moved, so the region it lives in moves with it.
     const Box bounds = m_pyramid.Bounds();
     m_config.bounds.minX -= newOrigin.x;
@@ -898,6 +907,28 @@ void QuadtreeBroadPhase::ShiftOrigin(Vec2 newOrigin)
     m_config.bounds.maxX -= newOrigin.x;
     m_config.bounds.maxY -= newOrigin.y;
     Rebuild(bounds.minX - newOrigin.x, bounds.minY - newOrigin.y, bounds.maxX - bounds.minX, m_pyramid.Depth());
+}
+
+void QuadtreeBroadPhase::SetBoxMirror(const BoxMirror& mirror)
+{
+    ApplyQueuedIfAny(); // the records must hold the fat boxes the calls made so far define
+    m_mirror = mirror;
+    WriteMirrorOfAll();
+}
+
+void QuadtreeBroadPhase::WriteMirrorOfAll()
+{
+    if (!m_mirror.Enabled())
+    {
+        return;
+    }
+    for (ProxyId id = 0; id < m_pool.IdBound(); ++id)
+    {
+        if (m_pool.IsLive(id))
+        {
+            m_mirror.Write(id, m_pool.Fat(id));
+        }
+    }
 }
 
 void QuadtreeBroadPhase::Configure(const Config& config)
@@ -1117,6 +1148,18 @@ std::string QuadtreeBroadPhase::Validate() const
         if (m_pool.IsStale(id) && listed[size_t(id)] == 0)
         {
             return "proxy " + std::to_string(id) + " is flagged stale but not in the stale list";
+        }
+    }
+    // With a mirror, every live proxy below its capacity has its fat box in its record, bit for bit.
+    if (m_mirror.Enabled())
+    {
+        for (ProxyId id = 0; id < std::min(m_pool.IdBound(), m_mirror.capacity); ++id)
+        {
+            const Box copy = m_mirror.Read(id);
+            if (m_pool.IsLive(id) && std::memcmp(&copy, &m_pool.Fat(id), sizeof copy) != 0) // NaN included
+            {
+                return "proxy " + std::to_string(id) + "'s mirror record differs from its fat box";
+            }
         }
     }
     // Every live proxy that is not stale is stored with its fat box: found through a query of its own box.

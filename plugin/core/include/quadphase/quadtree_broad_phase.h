@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "quadphase/box_mirror.h"
 #include "quadphase/broad_phase_interface.h"
 #include "quadphase/config.h"
 #include "quadphase/fat_policy.h"
@@ -144,6 +145,12 @@ public:
         UpdateFastRoom();
     }
 
+    /// Copies every fat box this object changes from now on into `mirror` (see BoxMirror), and writes the current
+    /// fat box of every live proxy below its capacity now (after applying queued moves). A mirror with a null base
+    /// stops the copies. O(proxies).
+    void SetBoxMirror(const BoxMirror& mirror);
+    const BoxMirror& GetBoxMirror() const { return m_mirror; }
+
     /// Read-only access for drawing and tests. The fat boxes are those of the last applied move: queued moves
     /// (QueueMove) are not in them until ApplyQueuedMoves, FindPairs or a reading call applies them.
     const Pyramid& GetPyramid() const { return m_pyramid; }
@@ -204,6 +211,7 @@ private:
     // Applies the queue: fat-box tests on `threads` threads, then (serially, in queue order) the stale list and the
     // move buffer. Requires exclusive access.
     void ApplyQueued(int threads);
+    void WriteMirrorOfAll();
     void Retune();
     void Rebuild(float originX, float originY, float side, int depth);
     bool NeedsRetune() const;
@@ -245,6 +253,7 @@ private:
     // RayCast compare it before and after their callbacks: unchanged means every collected candidate is still
     // what it was, so the re-entrancy checks cost nothing in the common case.
     uint64_t m_mutations = 0;
+    BoxMirror m_mirror; // see SetBoxMirror; disabled by default
     bool m_timing = false;
     mutable Stats m_counters;    // work counters only; shape fields are filled by GetStats
 };
