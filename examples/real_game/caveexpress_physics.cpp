@@ -1,19 +1,19 @@
-// caveexpress-physics: plays CaveExpress maps headless through the game's own server code and reports the time
-// of each b2World::Step.
+// caveexpress-physics: plays CaveExpress maps headless through the game's own server code and reports the
+// time of each b2World::Step.
 //
 // It is built inside CaveExpress 2.5.2's own CMake build (scripts/real-game.sh injects it with
-// examples/real_game/physics_driver.cmake) and links the game's static server libraries, so the physics it runs
-// is the game's: caveexpress::Map loads a map from base/caveexpress/maps, spawns its entities, NPCs and a player,
-// and calls b2World::Step(1/60 s, 8, 3) from Map::update exactly as the dedicated server does. The driver only
-// advances the clock 1 ms per call, the same way the game's own MapTest does, and reads b2World's profile after
-// each call. It compiles against whichever <box2d.h> the build found (stock or quadphase) and never names
-// quadphase: under QUADPHASE_VALIDATE=1 the library itself checks every UpdatePairs.
+// examples/real_game/physics_driver.cmake) and links the game's static server libraries, so the physics it
+// runs is the game's: caveexpress::Map loads a map from base/caveexpress/maps, spawns its entities, NPCs and
+// a player, and calls b2World::Step(1/60 s, 8, 3) from Map::update exactly as the dedicated server does. The
+// driver only advances the clock 1 ms per call, the same way the game's own MapTest does, and reads b2World's
+// profile after each call. It compiles against whichever <box2d.h> the build found (stock or quadphase) and
+// never names quadphase: under QUADPHASE_VALIDATE=1 the library itself checks every UpdatePairs.
 //
 // Run it from the game's source root (the data is read from base/caveexpress/):
 //   caveexpress-physics [--seconds S] [--seed N] MAP...
 // Output, one line per map (tab-separated, after a "map" tag):
-//   map NAME steps SIMULATED_S median_step_ms p90_step_ms median_broadphase_ms median_tick_ms bodies contacts
-//       proxies reloads
+//   map NAME steps SIMULATED_S median_step_ms p90_step_ms mean_step_ms median_broadphase_ms median_tick_ms
+//       bodies contacts proxies reloads
 // Exit status 0 when every map loaded and stepped, 1 otherwise, 2 on bad arguments.
 
 #include "caveexpress/main/CaveExpress.h"
@@ -52,11 +52,24 @@ class QuietConsole : public IConsole
 {
     void init(IFrontend*) override {}
     void logInfo(const std::string&) override {}
-    void logError(const std::string& text) override { std::fprintf(stderr, "caveexpress: %s\n", text.c_str()); }
+    void logError(const std::string& text) override
+    {
+        std::fprintf(stderr, "caveexpress: %s\n", text.c_str());
+    }
     void logDebug(const std::string&) override {}
     void render() override {}
     void update(uint32_t) override {}
 };
+
+double Mean(const std::vector<double>& values)
+{
+    double sum = 0.0;
+    for (double v : values)
+    {
+        sum += v;
+    }
+    return values.empty() ? 0.0 : sum / static_cast<double>(values.size());
+}
 
 double Quantile(std::vector<double> values, double q)
 {
@@ -90,15 +103,19 @@ bool StartMap(caveexpress::CaveExpress& game, const std::string& name)
 
 struct MapResult
 {
-    std::vector<double> stepMs;       // b2Profile::step of each b2World::Step (Box2D's own timer)
-    std::vector<double> broadphaseMs; // b2Profile::broadphase: b2ContactManager::FindNewContacts (UpdatePairs)
-    std::vector<double> tickMs;       // wall time of the game update that contained the step
-    int reloads = 0;                  // the map failed or was won and was loaded again
+    // b2Profile::step of each b2World::Step (Box2D's own timer, compiled in the library).
+    std::vector<double> stepMs;
+    // b2Profile::broadphase of each step: b2ContactManager::FindNewContacts, i.e. UpdatePairs.
+    std::vector<double> broadphaseMs;
+    // Wall time of the game update that contained the step (the game's logic and the step).
+    std::vector<double> tickMs;
+    // Times the map failed or was won and was loaded again.
+    int reloads = 0;
 };
 
-// Plays one map for `seconds` simulated seconds: the clock advances 1 ms per update, so an update performs at most
-// one b2World::Step (every 16.7 ms of game time). A step is detected by a sentinel written into the world's
-// profile before the update; b2World::Step overwrites the whole profile.
+// Plays one map for `seconds` simulated seconds: the clock advances 1 ms per update, so an update performs at
+// most one b2World::Step (every 16.7 ms of game time). A step is detected by a sentinel written into the
+// world's profile before the update; b2World::Step overwrites the whole profile.
 bool PlayMap(caveexpress::CaveExpress& game, const std::string& name, int seconds, MapResult& result)
 {
     if (!StartMap(game, name))
@@ -112,8 +129,8 @@ bool PlayMap(caveexpress::CaveExpress& game, const std::string& name, int second
     {
         if (--guard < 0)
         {
-            std::fprintf(stderr, "caveexpress-physics: map '%s' stopped stepping after %zu steps\n", name.c_str(),
-                         result.stepMs.size());
+            std::fprintf(stderr, "caveexpress-physics: map '%s' stopped stepping after %zu steps\n",
+                         name.c_str(), result.stepMs.size());
             return false;
         }
         caveexpress::Map& map = game.getMap();
@@ -144,11 +161,12 @@ bool PlayMap(caveexpress::CaveExpress& game, const std::string& name, int second
 
 int Usage(const char* argv0, int status)
 {
-    std::fprintf(status == 0 ? stdout : stderr,
-                 "usage: %s [--seconds S] [--seed N] MAP...\n"
-                 "  plays each CaveExpress map headless for S simulated seconds (default 60) at the game's 60 Hz\n"
-                 "  physics rate; run from the game's source root. rand() is seeded with N (default 1) per map.\n",
-                 argv0);
+    std::fprintf(
+        status == 0 ? stdout : stderr,
+        "usage: %s [--seconds S] [--seed N] MAP...\n"
+        "  plays each CaveExpress map headless for S simulated seconds (default 60) at the game's 60 Hz\n"
+        "  physics rate; run from the game's source root. rand() is seeded with N (default 1) per map.\n",
+        argv0);
     return status;
 }
 
@@ -227,10 +245,11 @@ extern "C" int main(int argc, char* argv[])
             continue;
         }
         b2World* world = game.getMap().getWorld();
-        std::printf("map\t%s\t%zu\t%.3f\t%.4f\t%.4f\t%.4f\t%.4f\t%d\t%d\t%d\t%d\n", name.c_str(), result.stepMs.size(),
-                    static_cast<double>(result.stepMs.size()) / 60.0, Quantile(result.stepMs, 0.5),
-                    Quantile(result.stepMs, 0.9), Quantile(result.broadphaseMs, 0.5), Quantile(result.tickMs, 0.5),
-                    world->GetBodyCount(), world->GetContactCount(), world->GetProxyCount(), result.reloads);
+        std::printf("map\t%s\t%zu\t%.3f\t%.4f\t%.4f\t%.4f\t%.4f\t%.4f\t%d\t%d\t%d\t%d\n", name.c_str(),
+                    result.stepMs.size(), static_cast<double>(result.stepMs.size()) / 60.0,
+                    Quantile(result.stepMs, 0.5), Quantile(result.stepMs, 0.9), Mean(result.stepMs),
+                    Quantile(result.broadphaseMs, 0.5), Quantile(result.tickMs, 0.5), world->GetBodyCount(),
+                    world->GetContactCount(), world->GetProxyCount(), result.reloads);
         std::fflush(stdout);
         game.mapShutdown();
     }
