@@ -38,12 +38,12 @@
 #   --stock-prefix DIR      the same for the stock prefix
 #   --skip-deps --skip-prefixes --skip-source --skip-build --skip-tests --skip-physics --skip-binary
 #                           skip a phase (a skipped phase's outputs in WORK are used as they are)
-# Environment: QUADPHASE_BOX2D_SOURCE_DIR (unpacked Box2D 2.4.1 source, else fetched by CMake).
+# Relative paths are taken from the repository's root.
+# Environment: QUADPHASE_BOX2D_SOURCE_DIR or QUADPHASE_BOX2D_TARBALL (Box2D 2.4.1's source, else fetched by CMake),
+# QUADPHASE_SKIP_DEPS=1 (as --skip-deps).
 # Exit status: 0 when every phase that ran passed its checks, 1 otherwise, 2 on bad arguments.
-set -euo pipefail
-
-root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-cd "$root"
+source "$(dirname "${BASH_SOURCE[0]}")/lib/build.sh"
+root=$PWD
 
 readonly caveexpress_version=2.5.2
 readonly caveexpress_debian_version=2.5.2-1
@@ -61,7 +61,7 @@ screenshot_copy=""
 declare -A prefix=()
 declare -A skip=()
 
-usage() { sed -n '2,/^set -euo/p' "${BASH_SOURCE[0]}" | sed '$d; s/^# \{0,1\}//'; }
+usage() { sed -n '2,/^source /p' "$root/scripts/real-game.sh" | sed '$d; s/^# \{0,1\}//'; }
 die() { echo "real-game: $*" >&2; exit 1; }
 need_value() { [[ $# -ge 2 && -n "$2" ]] || { echo "real-game: $1 needs a value" >&2; exit 2; }; }
 whole_number() { [[ "$2" =~ ^[1-9][0-9]*$ ]] || { echo "real-game: $1 must be a whole number > 0, got '$2'" >&2; exit 2; }; }
@@ -127,33 +127,31 @@ validation_counts() {
     echo "$mismatches $checked"
 }
 
+QP_JOBS=$jobs
+QP_LOG=1 # qp_configure and qp_build: logs in their build directory, the tail on failure
+
 # --- deps -------------------------------------------------------------------------------------------------------
 if [[ -z "${skip[deps]:-}" ]]; then
     phase deps
-    scripts/install-deps.sh --for real-game
+    qp_deps scripts/install-deps.sh --for real-game
 fi
 
 # --- prefixes ---------------------------------------------------------------------------------------------------
 if [[ -z "${skip[prefixes]:-}" && ( "${prefix[quadphase]}" == "$work/prefix-quadphase" ||
                                     "${prefix[stock]}" == "$work/prefix-stock" ) ]]; then
     phase prefixes
-    qp_build=$work/quadphase-build
-    configure=(-S "$root" -B "$qp_build" -DCMAKE_BUILD_TYPE=Release -DQUADPHASE_BUILD_TESTS=OFF
-               -DQUADPHASE_BUILD_EXAMPLES=OFF -DQUADPHASE_BUILD_BENCH=OFF)
-    [[ -n "${QUADPHASE_BOX2D_SOURCE_DIR:-}" ]] &&
-        configure+=("-DQUADPHASE_BOX2D_SOURCE_DIR=$QUADPHASE_BOX2D_SOURCE_DIR")
-    cmake "${configure[@]}" >"$work/quadphase-configure.log" ||
-        die "configuring quadphase failed (see $work/quadphase-configure.log)"
-    cmake --build "$qp_build" -j "$jobs" >"$work/quadphase-build.log" 2>&1 ||
-        die "building quadphase failed (see $work/quadphase-build.log)"
+    qp_tree=$work/quadphase-build
+    qp_configure "$qp_tree" -DCMAKE_BUILD_TYPE=Release -DQUADPHASE_BUILD_TESTS=OFF -DQUADPHASE_BUILD_EXAMPLES=OFF \
+        -DQUADPHASE_BUILD_BENCH=OFF
+    qp_build "$qp_tree"
     if [[ "${prefix[quadphase]}" == "$work/prefix-quadphase" ]]; then
         rm -rf "${prefix[quadphase]}"
-        cmake --install "$qp_build" --prefix "${prefix[quadphase]}" >"$work/install-quadphase.log" ||
+        cmake --install "$qp_tree" --prefix "${prefix[quadphase]}" >"$work/install-quadphase.log" ||
             die "cmake --install into ${prefix[quadphase]} failed (see $work/install-quadphase.log)"
     fi
     if [[ "${prefix[stock]}" == "$work/prefix-stock" ]]; then
         rm -rf "${prefix[stock]}"
-        cmake --install "$qp_build" --prefix "${prefix[stock]}" --component box2d_stock \
+        cmake --install "$qp_tree" --prefix "${prefix[stock]}" --component box2d_stock \
             >"$work/install-stock.log" ||
             die "cmake --install --component box2d_stock into ${prefix[stock]} failed (see $work/install-stock.log)"
     fi
