@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Install what bench/ needs on Debian/Ubuntu: the project's dependencies (scripts/install-deps.sh) plus python3
-# with matplotlib (the plots) and valgrind (callgrind.h: instruction counts of the replay's timed steps). Idempotent.
+# Install what bench/ needs on Debian/Ubuntu: scripts/install-deps.sh --for bench (Chipmunk2D, Bullet, python3) plus
+# matplotlib (the plots) and valgrind (callgrind.h: instruction counts of the replay's timed steps). Idempotent.
 set -euo pipefail
-exec "$(dirname "${BASH_SOURCE[0]}")/../scripts/install-deps.sh" python3-matplotlib valgrind "$@"
+exec "$(dirname "${BASH_SOURCE[0]}")/../scripts/install-deps.sh" --for bench python3-matplotlib valgrind "$@"

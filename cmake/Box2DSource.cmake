@@ -12,8 +12,8 @@
 #   4. Debian's source package "box2d" (version QUADPHASE_BOX2D_DEBIAN_VERSION,
 #      falling back to the unversioned package), fetched with
 #      `apt-get source --download-only` through a private, throw-away apt
-#      configuration under the build tree.  The system apt setup (sources,
-#      lists, cache, status, locks) is left alone.
+#      configuration under the build tree (cmake/DebianSource.cmake).  The
+#      system apt setup (sources, lists, cache, status, locks) is left alone.
 #
 # Tarballs (cases 2-4) must have the SHA-256 QUADPHASE_BOX2D_SHA256 and are
 # unpacked with file(ARCHIVE_EXTRACT) into the build tree.
@@ -22,6 +22,8 @@
 # variable in the caller's scope and an INTERNAL cache entry) holds the absolute
 # path of the Box2D source root (the directory containing include/, src/ and
 # unit-test/).
+
+include("${CMAKE_CURRENT_LIST_DIR}/DebianSource.cmake")
 
 set(QUADPHASE_BOX2D_VERSION "2.4.1")
 set(QUADPHASE_BOX2D_SHA256 "d6b4650ff897ee1ead27cf77a5933ea197cbeef6705638dd181adc2e816b23c2")
@@ -76,91 +78,19 @@ function(_quadphase_sha256_ok file out_var)
     set(${out_var} ${ok} PARENT_SCOPE)
 endfunction()
 
-# _quadphase_apt_fetch_box2d(<apt-root> <out-var>): download Debian's box2d source
-# package into <apt-root>/src with a private apt configuration.  Sets <out-var> to
-# the path of the orig tarball, or to "" (with a warning explaining why) on failure.
+# _quadphase_apt_fetch_box2d(<apt-root> <out-var>): download Debian's box2d source package into <apt-root>/src
+# with a private apt configuration (cmake/DebianSource.cmake). Sets <out-var> to the path of the orig tarball, or
+# to "" (with a warning explaining why) on failure.
 function(_quadphase_apt_fetch_box2d apt_root out_var)
-    set(${out_var} "" PARENT_SCOPE)
-
-    find_program(QUADPHASE_APT_GET_EXECUTABLE apt-get)
-    mark_as_advanced(QUADPHASE_APT_GET_EXECUTABLE)
-    if(NOT QUADPHASE_APT_GET_EXECUTABLE)
-        message(WARNING "quadphase: apt-get not found; cannot download Debian's box2d source package.")
-        return()
-    endif()
-    if(NOT EXISTS "${QUADPHASE_BOX2D_DEBIAN_KEYRING}")
-        message(WARNING "quadphase: Debian archive keyring ${QUADPHASE_BOX2D_DEBIAN_KEYRING} not found "
-                        "(package debian-archive-keyring); cannot verify Debian's box2d source package.")
-        return()
-    endif()
-
-    # Fresh private apt state for every attempt.
-    file(REMOVE_RECURSE "${apt_root}")
-    file(MAKE_DIRECTORY
-        "${apt_root}/lists/partial"
-        "${apt_root}/cache/archives/partial"
-        "${apt_root}/etc"
-        "${apt_root}/src")
-    file(TOUCH "${apt_root}/status")
-    file(WRITE "${apt_root}/etc/sources.list"
-        "deb-src [signed-by=${QUADPHASE_BOX2D_DEBIAN_KEYRING}] "
-        "${QUADPHASE_BOX2D_DEBIAN_MIRROR} ${QUADPHASE_BOX2D_DEBIAN_SUITE} main\n")
-
-    set(apt_opts
-        -o "Dir::Etc::SourceList=${apt_root}/etc/sources.list"
-        -o "Dir::Etc::SourceParts=/dev/null"
-        -o "Dir::State::Lists=${apt_root}/lists"
-        -o "Dir::Cache=${apt_root}/cache"
-        -o "Dir::State::status=${apt_root}/status"
-        -o "Debug::NoLocking=1")
-
-    message(STATUS "quadphase: fetching Debian source package box2d "
-                   "(${QUADPHASE_BOX2D_DEBIAN_SUITE}) with a private apt configuration in ${apt_root}")
-    execute_process(
-        COMMAND "${QUADPHASE_APT_GET_EXECUTABLE}" ${apt_opts} update
-        WORKING_DIRECTORY "${apt_root}"
-        RESULT_VARIABLE rc
-        OUTPUT_VARIABLE out
-        ERROR_VARIABLE out)
-    if(NOT rc EQUAL 0)
-        message(WARNING "quadphase: private `apt-get update` failed (${rc}):\n${out}")
-        return()
-    endif()
-    # apt-get update exits 0 even when the mirror is unreachable; check for an index.
-    file(GLOB sources_index "${apt_root}/lists/*_Sources*")
-    if(NOT sources_index)
-        message(WARNING "quadphase: private `apt-get update` fetched no Sources index from "
-                        "${QUADPHASE_BOX2D_DEBIAN_MIRROR} (${QUADPHASE_BOX2D_DEBIAN_SUITE}); no network?\n${out}")
-        return()
-    endif()
-
-    set(fetched FALSE)
-    foreach(spec "box2d=${QUADPHASE_BOX2D_DEBIAN_VERSION}" "box2d")
-        message(STATUS "quadphase: apt-get source --download-only ${spec}")
-        execute_process(
-            COMMAND "${QUADPHASE_APT_GET_EXECUTABLE}" ${apt_opts} source --download-only "${spec}"
-            WORKING_DIRECTORY "${apt_root}/src"
-            RESULT_VARIABLE rc
-            OUTPUT_VARIABLE out
-            ERROR_VARIABLE out)
-        if(rc EQUAL 0)
-            set(fetched TRUE)
-            break()
-        endif()
-        message(STATUS "quadphase: apt-get source ${spec} failed (${rc}):\n${out}")
-    endforeach()
-    if(NOT fetched)
-        message(WARNING "quadphase: could not download Debian's box2d source package.")
-        return()
-    endif()
-
-    set(tarball "${apt_root}/src/${QUADPHASE_BOX2D_ORIG_TARBALL_NAME}")
-    if(NOT EXISTS "${tarball}")
-        file(GLOB got RELATIVE "${apt_root}/src" "${apt_root}/src/*")
-        message(WARNING "quadphase: apt-get source did not produce ${QUADPHASE_BOX2D_ORIG_TARBALL_NAME} "
-                        "(got: ${got}); the Debian package is probably no longer version ${QUADPHASE_BOX2D_VERSION}.")
-        return()
-    endif()
+    quadphase_fetch_debian_source(
+        PACKAGE box2d
+        SPECS "box2d=${QUADPHASE_BOX2D_DEBIAN_VERSION}" box2d
+        FILE "${QUADPHASE_BOX2D_ORIG_TARBALL_NAME}"
+        APT_ROOT "${apt_root}"
+        MIRROR "${QUADPHASE_BOX2D_DEBIAN_MIRROR}"
+        SUITE "${QUADPHASE_BOX2D_DEBIAN_SUITE}"
+        KEYRING "${QUADPHASE_BOX2D_DEBIAN_KEYRING}"
+        OUT_VAR tarball)
     set(${out_var} "${tarball}" PARENT_SCOPE)
 endfunction()
 

@@ -15,7 +15,7 @@ set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
 if [[ "${QUADPHASE_SKIP_DEPS:-0}" != 1 ]]; then
-    scripts/install-deps.sh >&2
+    scripts/install-deps.sh --for fuzz >&2
 fi
 
 build_dir=${BUILD_DIR:-build-fuzz}

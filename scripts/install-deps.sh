@@ -1,31 +1,106 @@
 #!/usr/bin/env bash
-# Install the build/test dependencies of quadphase on Debian/Ubuntu.
-# Idempotent: does nothing (and no `apt-get update`) when everything is installed.
-# Extra package names given as arguments are installed too (bench/install-deps.sh adds matplotlib).
-# Runs as root, or through sudo when available.
+# Install the Debian/Ubuntu packages a command of this repository needs, and nothing else.
+#
+#   scripts/install-deps.sh                       # every purpose but real-game: what CI (.ci/run) and the
+#                                                 # scripts in scripts/ and bench/ use together
+#   scripts/install-deps.sh --for test            # one purpose (repeat --for for several)
+#   scripts/install-deps.sh --for bench python3-matplotlib   # extra package names are installed too
+#   scripts/install-deps.sh --list [--for PURPOSE]           # print the packages, install nothing
+#
+# Purposes (each includes "core": compiler, CMake, Catch2, cairo, and what fetches Box2D's source):
+#   test, demo   scripts/test.sh, scripts/demo.sh: core only (configuring the project builds the tests, which
+#                need Catch2, and quadphase-scene, which needs cairo)
+#   render       scripts/render.sh: + ffmpeg (GIF/MP4)
+#   testbed      scripts/testbed-screenshot.sh: + X11/GL dev packages for Box2D's testbed, Xvfb, Mesa, xdotool, ffmpeg
+#   bench        bench/*.sh, scripts/soak.sh: + Chipmunk2D, Bullet, python3
+#   race         scripts/race-check.sh: + clang-14 with LLVM's libomp and archer
+#   sanitize     scripts/sanitize.sh: core only (GCC's sanitizers)
+#   fuzz         scripts/fuzz.sh: + clang-14's libFuzzer and sanitizer runtimes, libomp
+#   real-game    scripts/real-game.sh: + CaveExpress's build dependencies, Debian's caveexpress package, Xvfb,
+#                Mesa, xdotool, imagemagick
+# Idempotent: does nothing (and no `apt-get update`) when everything is installed. Runs as root, or through sudo.
 set -euo pipefail
 
-packages=(
-    cmake
-    g++
-    make
+core=(
+    cmake g++ make
     catch2                  # Catch2 2.x (find_package(Catch2 2))
-    libomp-dev              # LLVM OpenMP, for clang builds (gcc uses libgomp)
-    clang-14                # race checker (scripts/race-check.sh) and sanitizer builds
-    libomp-14-dev           # libomp and archer (OpenMP support of ThreadSanitizer) for clang-14
-    libclang-rt-14-dev      # clang-14's sanitizer runtimes
-    ca-certificates
-    python3
-    pkg-config              # tests/package: a game finding Box2D through pkg-config box2d
-    xz-utils
+    libcairo2-dev fonts-dejavu-core  # quadphase-scene (examples/scene_cli): PNG frames and their text
+    pkg-config              # cairo; tests/package: a game finding Box2D through pkg-config box2d
+    ca-certificates xz-utils
     debian-archive-keyring  # verifies the Debian archive when CMake fetches Box2D's source
-    libcairo2-dev fonts-dejavu-core  # PNG frames of quadphase-scene (examples/scene_cli) and their text
-    ffmpeg                  # GIF/MP4 animations of quadphase-scene; screenshots of the testbed (x11grab)
-    libgl-dev libx11-dev libxrandr-dev libxinerama-dev libxcursor-dev libxi-dev  # Box2D testbed's glfw (-DQUADPHASE_TESTBED=ON)
-    xvfb xauth libgl1-mesa-dri xdotool  # scripts/testbed-screenshot.sh: virtual X server, Mesa software GL, key presses
-    libchipmunk-dev libbullet-dev  # bench/: Chipmunk2D's spatial hash and BB tree, Bullet's btDbvtBroadphase (replay comparison)
-    "$@"
 )
+clang_omp=(
+    clang-14                # race checker and fuzzer
+    libomp-dev libomp-14-dev  # LLVM's libomp and archer (OpenMP support of ThreadSanitizer) for clang-14
+)
+xvfb=(xvfb xauth libgl1-mesa-dri xdotool)  # virtual X server, Mesa software GL, key presses and clicks
+
+packages_for() {
+    case "$1" in
+        test | demo | sanitize) ;;
+        render) echo ffmpeg ;;
+        testbed)
+            echo libgl-dev libx11-dev libxrandr-dev libxinerama-dev libxcursor-dev libxi-dev  # the testbed's glfw
+            echo "${xvfb[@]}" ffmpeg  # screenshots (x11grab)
+            ;;
+        bench) echo libchipmunk-dev libbullet-dev python3 ;;  # replay comparison; the drivers are Python
+        race) echo "${clang_omp[@]}" ;;
+        fuzz) echo "${clang_omp[@]}" libclang-rt-14-dev ;;
+        real-game)
+            # CaveExpress 2.5.2's build dependencies as Debian's source package lists them (caveexpress_2.5.2-1.dsc),
+            # less libbox2d-dev (the game is built against quadphase's and stock's prefixes) and liblua5.2-dev
+            # (Debian's game links Lua 5.4), plus the game itself for the binary swap.
+            echo libglm-dev libgtest-dev liblua5.4-dev libncurses-dev libsdl2-dev libsdl2-image-dev \
+                libsdl2-mixer-dev libsdl2-net-dev libsqlite3-dev libtinyxml2-dev libyajl-dev zlib1g-dev
+            echo caveexpress "${xvfb[@]}" imagemagick
+            ;;
+        *) return 1 ;;
+    esac
+}
+all_purposes=(test demo render testbed bench race sanitize fuzz)
+
+usage() {
+    sed -n '2,/^set -euo/p' "${BASH_SOURCE[0]}" | sed '$d; s/^# \{0,1\}//'
+}
+
+purposes=()
+extra=()
+list_only=0
+while [[ $# -gt 0 ]]; do
+    case "$1" in
+        --for)
+            [[ $# -ge 2 ]] || { echo "install-deps: --for needs a purpose" >&2; exit 2; }
+            packages_for "$2" >/dev/null || {
+                echo "install-deps: unknown purpose '$2' (one of: ${all_purposes[*]} real-game)" >&2
+                exit 2
+            }
+            purposes+=("$2")
+            shift 2
+            ;;
+        --for=*)
+            set -- --for "${1#--for=}" "${@:2}"
+            ;;
+        --list) list_only=1; shift ;;
+        -h | --help) usage; exit 0 ;;
+        -*) echo "install-deps: unknown option '$1' (see --help)" >&2; exit 2 ;;
+        *) extra+=("$1"); shift ;;
+    esac
+done
+[[ ${#purposes[@]} -eq 0 ]] && purposes=("${all_purposes[@]}")
+
+packages=("${core[@]}")
+for purpose in "${purposes[@]}"; do
+    read -r -a more <<<"$(packages_for "$purpose" | tr '\n' ' ')"
+    packages+=("${more[@]}")
+done
+packages+=("${extra[@]}")
+# Each package once, in first-seen order.
+mapfile -t packages < <(printf '%s\n' "${packages[@]}" | awk 'NF && !seen[$0]++')
+
+if [[ $list_only -eq 1 ]]; then
+    printf '%s\n' "${packages[@]}"
+    exit 0
+fi
 
 if ! command -v dpkg-query >/dev/null 2>&1 || ! command -v apt-get >/dev/null 2>&1; then
     echo "install-deps: this script needs apt-get/dpkg (Debian or Ubuntu)." >&2
@@ -42,7 +117,7 @@ for pkg in "${packages[@]}"; do
 done
 
 if [[ ${#missing[@]} -eq 0 ]]; then
-    echo "install-deps: all packages already installed: ${packages[*]}"
+    echo "install-deps: all packages for ${purposes[*]} already installed (${#packages[@]})"
     exit 0
 fi
 
@@ -56,7 +131,7 @@ else
 fi
 
 export DEBIAN_FRONTEND=noninteractive
-echo "install-deps: missing: ${missing[*]}"
+echo "install-deps: for ${purposes[*]}, missing: ${missing[*]}"
 echo "install-deps: running: ${as_root[*]:+${as_root[*]} }apt-get update"
 "${as_root[@]}" apt-get update
 echo "install-deps: running: ${as_root[*]:+${as_root[*]} }apt-get install -y --no-install-recommends ${missing[*]}"

@@ -7,7 +7,7 @@
 # Environment: BUILD_DIR (default build-tsan), JOBS (default nproc), QUADPHASE_SKIP_DEPS=1,
 #              QUADPHASE_BOX2D_SOURCE_DIR / QUADPHASE_BOX2D_TARBALL as for scripts/test.sh.
 source "$(dirname "${BASH_SOURCE[0]}")/lib/build.sh"
-qp_deps
+qp_deps scripts/install-deps.sh --for race
 build_dir=${BUILD_DIR:-build-tsan}
 llvm_lib=/usr/lib/llvm-14/lib
 

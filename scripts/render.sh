@@ -21,7 +21,7 @@
 #   QUADPHASE_BOX2D_SOURCE_DIR  unpacked Box2D 2.4.1 source (default: fetched by CMake)
 #   QUADPHASE_BOX2D_TARBALL     local box2d_2.4.1.orig.tar.gz (default: fetched by CMake)
 source "$(dirname "${BASH_SOURCE[0]}")/lib/build.sh"
-qp_deps
+qp_deps scripts/install-deps.sh --for render
 build_dir=${BUILD_DIR:-build}
 out_dir=${OUT_DIR:-$build_dir/render}
 qp_configure "$build_dir" -DCMAKE_BUILD_TYPE=Release -DQUADPHASE_BUILD_EXAMPLES=ON

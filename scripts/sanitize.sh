@@ -21,7 +21,7 @@
 #              QUADPHASE_BOX2D_SOURCE_DIR / QUADPHASE_BOX2D_TARBALL as for scripts/test.sh.
 # Extra arguments are passed to ctest (e.g. -R robustness).
 source "$(dirname "${BASH_SOURCE[0]}")/lib/build.sh"
-qp_deps
+qp_deps scripts/install-deps.sh --for sanitize
 build_dir=${BUILD_DIR:-build-asan}
 
 sanitizers="-fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=all -fno-omit-frame-pointer"

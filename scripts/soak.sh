@@ -12,7 +12,7 @@
 #              QUADPHASE_BOX2D_SOURCE_DIR / QUADPHASE_BOX2D_TARBALL as for scripts/test.sh.
 # Extra arguments are passed to qp-soak.
 source "$(dirname "${BASH_SOURCE[0]}")/lib/build.sh"
-qp_deps
+qp_deps scripts/install-deps.sh --for bench
 build_dir=${BUILD_DIR:-build-soak}
 target=qp-soak
 [[ "${VARIANT:-quadphase}" == stock ]] && target=qp-soak-stock

@@ -10,7 +10,7 @@
 #   QUADPHASE_BOX2D_TARBALL     local box2d_2.4.1.orig.tar.gz (default: fetched by CMake)
 # Extra arguments are passed to the CMake configure step.
 source "$(dirname "${BASH_SOURCE[0]}")/lib/build.sh"
-qp_deps
+qp_deps scripts/install-deps.sh --for test
 build_dir=${BUILD_DIR:-build}
 qp_configure "$build_dir" -DCMAKE_BUILD_TYPE=Release "$@"
 qp_build "$build_dir"

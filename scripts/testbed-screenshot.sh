@@ -48,7 +48,7 @@ if [[ ! "$wait_seconds" =~ ^[0-9]+$ ]]; then
     exit 2
 fi
 
-qp_deps
+qp_deps scripts/install-deps.sh --for testbed
 if [[ "${QUADPHASE_SKIP_BUILD:-0}" != 1 ]]; then
     qp_configure "$build_dir" -DCMAKE_BUILD_TYPE=Release -DQUADPHASE_TESTBED=ON -DQUADPHASE_BUILD_EXAMPLES=ON
     qp_build "$build_dir" "$target"
@@ -81,7 +81,7 @@ names=("$@")
 needed=(Xvfb ffmpeg)
 [[ -n "${XDOTOOL:-}" ]] && needed+=(xdotool)
 for cmd in "${needed[@]}"; do
-    command -v "$cmd" >/dev/null || { echo "testbed-screenshot: $cmd not found (scripts/install-deps.sh)" >&2; exit 1; }
+    command -v "$cmd" >/dev/null || { echo "testbed-screenshot: $cmd not found (scripts/install-deps.sh --for testbed)" >&2; exit 1; }
 done
 mkdir -p "$out_dir"
 out_dir=$(cd "$out_dir" && pwd)
