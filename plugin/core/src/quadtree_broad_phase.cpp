@@ -316,14 +316,16 @@ void QuadtreeBroadPhase::ApplyForReadLocked() const
     }
 }
 
-void QuadtreeBroadPhase::ApplyQueued(int threads)
+void QuadtreeBroadPhase::ApplyQueued(int threads, Clock::time_point* now)
 {
     const int64_t count = int64_t(m_queuedCount);
     if (count == 0)
     {
         return;
     }
-    const Clock::time_point start = Clock::now();
+    // A caller that already read the clock hands its reading over and gets this call's end back: clock reads
+    // (about 25 ns each) were a tenth of a step where almost nothing moves (tiles).
+    const Clock::time_point start = now != nullptr ? *now : Clock::now();
     // Each proxy is queued at most once, so the fat-box tests touch disjoint boxes, flags and cell entries and can
     // run on any thread. Thread t takes a contiguous range of the queue (static schedule) and lists, in order, the
     // ids it adds to the stale list and to the move buffer; the lists joined in thread order are in queue order
@@ -368,12 +370,19 @@ void QuadtreeBroadPhase::ApplyQueued(int threads)
         buffered.resize(size_t(end - begin)); // within the capacity reserved above: no allocation here
         int32_t* out = buffered.data();
         size_t n = 0;
+        // Everything the loop reads in locals: through the lambda object (or the pool) the compiler reloaded the
+        // policy, the arrays and the constants built from them after every flag store, since a char store may
+        // alias anything (tiles: 70 instructions per move, half of them such reloads).
+        const QueuedMove* const moves = queued;
+        Box* const boxes = fat;
+        uint8_t* const state = pool.MutableStateData();
+        const FatPolicy localPolicy = policy;
         for (int64_t i = begin; i < end; ++i)
         {
-            const QueuedMove& move = queued[i];
-            pool.ClearPending(move.id);
+            const QueuedMove& move = moves[i];
+            state[size_t(move.id)] &= ProxyPool::kClearPendingMask;
             out[n] = int32_t(i);
-            n += RefattenSimd(policy, fat[move.id], move.tight, move.displacement) ? 1 : 0;
+            n += RefattenSimd(localPolicy, boxes[move.id], move.tight, move.displacement) ? 1 : 0;
         }
         stale.resize(n);
         int32_t outsideDelta = 0;
@@ -436,7 +445,12 @@ void QuadtreeBroadPhase::ApplyQueued(int threads)
         m_threadLists.shrink_to_fit();
     }
     NoteStale();
-    m_counters.updateSeconds += SecondsSince(start);
+    const Clock::time_point end = Clock::now();
+    m_counters.updateSeconds += std::chrono::duration<double>(end - start).count();
+    if (now != nullptr)
+    {
+        *now = end;
+    }
 }
 
 void QuadtreeBroadPhase::TouchProxy(ProxyId id)
@@ -489,8 +503,11 @@ void QuadtreeBroadPhase::QueryPairsOf(ProxyId q, std::vector<Pair>& out) const
 void QuadtreeBroadPhase::FindPairs(std::vector<Pair>& out)
 {
     const Clock::time_point start = Clock::now();
-    int threads = Threads();
     const int64_t work = int64_t(m_queuedCount + m_stale.size()) + m_pool.BufferedCount();
+    // Below the threshold no parallel region can open (neither the queue's apply nor the search), so OpenMP is
+    // not asked (omp_get_max_threads is a call into libgomp; most of Box2D's calls, after time-of-impact events
+    // and on quiet scenes, are this small).
+    int threads = work >= int64_t(m_config.parallelThreshold) ? Threads() : 1;
     const bool eligible = m_config.threads == 0 && threads > 1 && work >= int64_t(m_config.parallelThreshold);
     if (eligible)
     {
@@ -503,12 +520,13 @@ void QuadtreeBroadPhase::FindPairs(std::vector<Pair>& out)
             m_counters.serialByChoice += probe ? 0 : 1;
         }
     }
-    ApplyQueued(threads);
+    Clock::time_point now = start;
+    ApplyQueued(threads, &now);
     // Entries first, then the re-tune test: the test reads the outside count, which is complete only once every
     // entry is up to date (ApplyQueued already updates the entries that stay in their cell). Queued and immediate
     // moves then re-tune at the same call. A re-tune rebuilds from the fat boxes, so the update work is wasted
     // then; re-tunes are rare.
-    UpdateStaleEntries();
+    UpdateStaleEntries(&now);
     if (NeedsRetune())
     {
         Retune();
@@ -574,13 +592,13 @@ int QuadtreeBroadPhase::Threads() const
     return m_config.threads > 0 ? m_config.threads : omp_get_max_threads();
 }
 
-void QuadtreeBroadPhase::UpdateStaleEntries()
+void QuadtreeBroadPhase::UpdateStaleEntries(Clock::time_point* now)
 {
     if (m_stale.empty())
     {
         return;
     }
-    const Clock::time_point start = Clock::now();
+    const Clock::time_point start = now != nullptr ? *now : Clock::now();
     ++m_mutations;
     // Filtered in place (no second array): the live ones are handed to the pyramid. They stay flagged until their
     // entries are written, so that std::bad_alloc inside UpdateBatch leaves every one listed and flagged (each
@@ -605,7 +623,12 @@ void QuadtreeBroadPhase::UpdateStaleEntries()
     }
     m_stale.clear();
     NoteStale();
-    m_counters.updateSeconds += SecondsSince(start);
+    const Clock::time_point end = Clock::now();
+    m_counters.updateSeconds += std::chrono::duration<double>(end - start).count();
+    if (now != nullptr)
+    {
+        *now = end;
+    }
 }
 
 // The buffered proxies are cut into fixed blocks of kBlock queries, whatever the thread count. Each block writes

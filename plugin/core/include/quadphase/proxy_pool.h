@@ -146,6 +146,9 @@ public:
     /// The fat boxes and state flags for loops that run on several threads over distinct ids (valid until the
     /// next Allocate). Flags: see MarkPending, MarkStale.
     Box* MutableFatData() { return m_fat.data(); }
+    /// The flag bytes, for loops that clear the queued-move flag of many distinct ids (ClearPending, unrolled by
+    /// the caller: state[id] &= kClearPendingMask).
+    uint8_t* MutableStateData() { return m_state.data(); }
 
     /// True while `id` is in the work list taken by TakeBuffer. A pair of two such proxies is reported by the
     /// smaller id only, so that every pair is reported once.
@@ -180,6 +183,11 @@ private:
     static constexpr uint8_t kInWork = 4;
     static constexpr uint8_t kStale = 8;
     static constexpr uint8_t kPending = 16;
+
+public:
+    static constexpr uint8_t kClearPendingMask = uint8_t(~kPending);
+
+private:
     static constexpr uint8_t kBadReported = 32;
 
     // Sets `flag` on `id`; true when it was not set before.

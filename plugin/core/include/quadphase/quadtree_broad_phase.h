@@ -2,6 +2,7 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <mutex>
 #include <string>
@@ -222,7 +223,8 @@ private:
     void QueueMoveSlow(ProxyId id, const Box& tight, Vec2 displacement);
     // Applies the queue: fat-box tests on `threads` threads, then (serially, in queue order) the stale list and the
     // move buffer. Requires exclusive access.
-    void ApplyQueued(int threads);
+    // `now`, when given, is the caller's last clock reading (taken as this call's start) and receives its end.
+    void ApplyQueued(int threads, std::chrono::steady_clock::time_point* now = nullptr);
     void WriteMirrorOfAll();
     void Retune();
     void Rebuild(float originX, float originY, float side, int depth);
@@ -230,7 +232,7 @@ private:
     void CommitRebuild(Pyramid&& built);
     bool NeedsRetune() const;
     void QueryPairsOf(ProxyId q, std::vector<Pair>& out) const;
-    void UpdateStaleEntries();
+    void UpdateStaleEntries(std::chrono::steady_clock::time_point* now = nullptr); // `now` as in ApplyQueued
     int Threads() const;
     void FindPairsParallel(std::vector<Pair>& out, int threads);
 
