@@ -5,8 +5,8 @@
 # 2. On quadphase's (LD_LIBRARY_PATH, QUADPHASE_VALIDATE=1, LD_BIND_NOW=1, LD_DEBUG=bindings): it must say
 #    "quadphase", pass its inline checks, give the same "sensors" lines (contacts at every step, query and ray-cast
 #    hashes, inline counts), and report 0 validation mismatches over more than 100 checked UpdatePairs.
-# 3. No function of quadphase's library may be bound to the probe's own copies (vtables and typeinfo are data,
-#    copy-relocated into executables by design). For the interposing build, the probe must really export copies of
+# 3. No Box2D function of quadphase's library may be bound to the probe's own copies (vtables and typeinfo are
+#    data, copy-relocated into executables by design; sanitizer runtimes' symbols are not Box2D's). For the interposing build, the probe must really export copies of
 #    stock's inline b2BroadPhase functions, or step 3 would prove nothing.
 cmake_minimum_required(VERSION 3.20)
 file(REMOVE_RECURSE "${WORK_DIR}")
@@ -75,7 +75,9 @@ set(function_bindings "")
 foreach(f IN LISTS binding_files)
     file(STRINGS "${f}" lines REGEX "binding file .*libbox2d\\.so\\.2 \\[0\\] to .*qp_abi_swap_probe")
     foreach(line IN LISTS lines)
-        if(NOT line MATCHES "`_ZT[VIS]")
+        # Box2D's functions only: vtables and typeinfo are data, and the sanitizer runtimes' own symbols (an ASan
+        # build links them into the executable) bind there by design.
+        if(line MATCHES "symbol `[^']*b2" AND NOT line MATCHES "`_ZT[VIS]")
             list(APPEND function_bindings "${line}")
         endif()
     endforeach()
