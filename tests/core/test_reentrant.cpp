@@ -271,6 +271,61 @@ TEST_CASE("RayCast callbacks may create, destroy and move proxies", "[raycast][r
     REQUIRE(actions > 1000);
 }
 
+// Found by the Box2D-level fuzzer (tests/fuzz/box2d_fuzz.cpp, regression input
+// tests/fuzz/regressions/box2d/reentrant-queued-move-reported-where-it-was): b2BroadPhase::MoveProxy queues the move
+// (QueueMove), which changed no fat box before the queue was applied, so a proxy a callback moved away was still
+// reported where it had been.
+TEST_CASE("A proxy a callback moves through QueueMove is reported only where it now is", "[query][raycast][reentrant]")
+{
+    QuadtreeBroadPhase qt;
+    const ProxyId first = qt.CreateProxy(Box{0.0f, 0.0f, 1.0f, 1.0f}, nullptr);
+    const ProxyId second = qt.CreateProxy(Box{2.0f, 0.0f, 3.0f, 1.0f}, nullptr);
+    std::vector<Pair> pairs;
+    qt.FindPairs(pairs);
+    const Box away{50.0f, 50.0f, 51.0f, 51.0f};
+    struct Mover
+    {
+        QuadtreeBroadPhase* qt;
+        ProxyId reported[2] = {-1, -1};
+        int count = 0;
+        Box to;
+        void Report(ProxyId id)
+        {
+            reported[count++] = id;
+            if (count == 1)
+            {
+                // move the other one away; its QueueMove is not applied yet
+                const ProxyId other = id == 0 ? 1 : 0;
+                qt->QueueMove(other, to, Vec2{0.0f, 0.0f});
+            }
+        }
+        static bool Query(void* context, ProxyId id)
+        {
+            static_cast<Mover*>(context)->Report(id);
+            return true;
+        }
+        static float Ray(void* context, const RayInput&, ProxyId id)
+        {
+            static_cast<Mover*>(context)->Report(id);
+            return -1.0f;
+        }
+    };
+    SECTION("Query")
+    {
+        Mover m{&qt, {-1, -1}, 0, away};
+        qt.Query(Box{-1.0f, -1.0f, 4.0f, 2.0f}, &Mover::Query, &m);
+        CHECK(m.count == 1); // was 2: the moved proxy reported at its old box
+    }
+    SECTION("RayCast")
+    {
+        Mover m{&qt, {-1, -1}, 0, away};
+        qt.RayCast(RayInput{{-1.0f, 0.5f}, {4.0f, 0.5f}, 1.0f}, &Mover::Ray, &m);
+        CHECK(m.count == 1);
+    }
+    CHECK(Overlaps(qt.GetFatBox(first), away) != Overlaps(qt.GetFatBox(second), away));
+    REQUIRE(qt.Validate() == "");
+}
+
 TEST_CASE("A callback that rebuilds the pyramid mid-ray: the walk starts again and reports no id twice",
           "[raycast][reentrant]")
 {

@@ -64,6 +64,24 @@ constexpr int kMaxActionsPerCall = 24; // re-entrant actions in one Query or Ray
 
 int g_op = 0;
 
+// QP_FUZZ_TRACE=1: print every call as it is made (to read a crashing input).
+const bool g_trace = []
+{
+    const char* v = std::getenv("QP_FUZZ_TRACE");
+    return v != nullptr && std::strcmp(v, "1") == 0;
+}();
+
+#define TRACE(...)                                                                                           \
+    do                                                                                                       \
+    {                                                                                                        \
+        if (g_trace)                                                                                         \
+        {                                                                                                    \
+            std::fprintf(stderr, "[%d] ", g_op);                                                             \
+            std::fprintf(stderr, __VA_ARGS__);                                                               \
+            std::fputc('\n', stderr);                                                                        \
+        }                                                                                                    \
+    } while (false)
+
 [[noreturn]] void Diverge(const char* what, long a, long b)
 {
     std::fprintf(stderr, "box2d_fuzz: DIVERGENCE at operation %d: %s (quadphase %ld, stock %ld)\n", g_op,
@@ -273,6 +291,8 @@ private:
         const int32_t serial = m_serials++;
         const int32 qp = m_bp.CreateProxy(box, UserData(serial));
         const int32 stock = m_stock.CreateProxy(box, UserData(serial));
+        TRACE("CreateProxy (%.9g, %.9g)-(%.9g, %.9g) -> %d (stock %d)", box.lowerBound.x, box.lowerBound.y,
+              box.upperBound.x, box.upperBound.y, qp, stock);
         Expect({quadphase::TraceOp::Create, qp, ToBox(box), {}});
         if (qp < 0 || IsLive(qp))
         {
@@ -336,6 +356,8 @@ private:
     void MoveProxy(int32 qp, const b2AABB& box, const b2Vec2& d)
     {
         Proxy& p = m_proxy[size_t(qp)];
+        TRACE("MoveProxy %d (%.9g, %.9g)-(%.9g, %.9g) d (%.9g, %.9g)", qp, box.lowerBound.x, box.lowerBound.y,
+              box.upperBound.x, box.upperBound.y, d.x, d.y);
         m_bp.MoveProxy(qp, box, d);
         m_stock.MoveProxy(p.stock, box, d);
         Expect({quadphase::TraceOp::Move, qp, ToBox(box), {d.x, d.y}});
@@ -349,6 +371,7 @@ private:
             return;
         }
         const Proxy p = m_proxy[size_t(qp)];
+        TRACE("DestroyProxy %d", qp);
         m_bp.DestroyProxy(qp);
         m_stock.DestroyProxy(p.stock);
         Expect({quadphase::TraceOp::Destroy, qp, {}, {}});
@@ -371,6 +394,7 @@ private:
         {
             return;
         }
+        TRACE("TouchProxy %d", qp);
         m_bp.TouchProxy(qp);
         m_stock.TouchProxy(m_proxy[size_t(qp)].stock);
         Expect({quadphase::TraceOp::Touch, qp, {}, {}});
@@ -400,6 +424,7 @@ private:
         m_s.quadphasePairs.clear();
         m_s.stockPairs.clear();
         PairRecorder recorder{&m_s.quadphasePairs};
+        TRACE("UpdatePairs");
         m_bp.UpdatePairs(&recorder);
         m_stock.UpdatePairs(m_s.stockPairs);
         Expect({quadphase::TraceOp::UpdatePairs, -1, {}, {}});
@@ -448,6 +473,7 @@ private:
     void ShiftOrigin()
     {
         const b2Vec2 origin = ReadVector(16.0f, 1.0e4f);
+        TRACE("ShiftOrigin (%.9g, %.9g)", origin.x, origin.y);
         m_bp.ShiftOrigin(origin);
         m_stock.ShiftOrigin(origin);
         Expect({quadphase::TraceOp::ShiftOrigin, -1, {}, {origin.x, origin.y}});
@@ -542,6 +568,8 @@ private:
 
     void PlainQuery(const b2AABB& box)
     {
+        TRACE("Query (%.9g, %.9g)-(%.9g, %.9g)", box.lowerBound.x, box.lowerBound.y, box.upperBound.x,
+              box.upperBound.y);
         std::vector<int32_t>& got = m_s.ids;
         std::vector<int32_t>& want = m_s.other;
         got.clear();
@@ -642,6 +670,8 @@ private:
         ray.p1.Set(r.p1.x, r.p1.y);
         ray.p2.Set(r.p2.x, r.p2.y);
         ray.maxFraction = r.maxFraction;
+        TRACE("RayCast mode %d (%.9g, %.9g)->(%.9g, %.9g) max %.9g", mode % 8, ray.p1.x, ray.p1.y, ray.p2.x,
+              ray.p2.y, ray.maxFraction);
         switch (mode % 8)
         {
         case 0:
@@ -739,6 +769,7 @@ private:
             Diverge("re-entrant call: reported a proxy that is not live (destroyed during the call?)", id, 0);
         }
         const uint8_t f = m_flags[size_t(id)];
+        TRACE("  reported %d (flags %d)", id, int(f));
         if ((f & kReported) != 0)
         {
             Diverge("re-entrant call: reported a proxy twice", id, 0);
@@ -858,6 +889,8 @@ private:
             Mark(qp, kExpected);
         }
         Reentry call{this, box, ray, clip && ray != nullptr};
+        TRACE("re-entrant %s (%.9g, %.9g)-(%.9g, %.9g), %zu expected", ray == nullptr ? "Query" : "RayCast",
+              box.lowerBound.x, box.lowerBound.y, box.upperBound.x, box.upperBound.y, expected.size());
         if (ray == nullptr)
         {
             m_bp.Query(&call, box);
@@ -893,6 +926,7 @@ private:
     void Meta()
     {
         const uint8_t sub = m_in->Byte();
+        TRACE("Meta %d", sub % 4);
         switch (sub % 4)
         {
         case 0:
