@@ -10,11 +10,12 @@
 #   --minutes/--seconds  fuzzing time per target (default: FUZZ_SECONDS, else 60 s)
 #   --target             which target (default all: each in turn, for the time given)
 #   --campaign           keep the corpus between runs in <build>/campaign/<target>/corpus (seeded from the
-#                        committed one) and append each run's executions, cov and ft to
+#                        committed corpus and seeds) and append each run's executions, cov and ft to
 #                        <build>/campaign/<target>/runs.log; at the end merge and minimise it
 #                        (-merge=1 over edge coverage, -use_counters=0) into <build>/campaign/<target>/minimised
 #   --update-corpus      with --campaign: replace tests/fuzz/corpus/<target> with the minimised corpus
-# Without --campaign each run starts from a scratch copy of the committed corpus and leaves the repository alone.
+# Without --campaign each run starts from a scratch copy of the committed corpus and seeds (tests/fuzz/seeds)
+# and leaves the repository alone.
 #
 # Why these settings (measured; see docs/robustness.md, "Fuzzing"):
 #   -O2; trace-cmp off (-fno-sanitize-coverage=trace-cmp); the checkers (Validate, the brute force, the targets'
@@ -118,6 +119,16 @@ run_fuzzer() {
     return $status
 }
 
+# The committed corpus and the seeds (recorded scene traces) of target $1, copied into directory $2.
+seed_corpus() {
+    local d
+    for d in tests/fuzz/corpus/"$1" tests/fuzz/seeds/"$1"; do
+        if [[ -d $d ]] && compgen -G "$d/*" >/dev/null; then
+            cp "$d"/* "$2/"
+        fi
+    done
+}
+
 failed=0
 for t in "${targets[@]}"; do
     if [[ $campaign == 1 ]]; then
@@ -125,14 +136,14 @@ for t in "${targets[@]}"; do
         corpus="$work/corpus"
         if [[ ! -d $corpus ]]; then
             mkdir -p "$corpus"
-            cp tests/fuzz/corpus/"$t"/* "$corpus/" 2>/dev/null || true
+            seed_corpus "$t" "$corpus"
         fi
     else
         work="$build_dir/fuzz-$t"
         corpus="$work/corpus"
         rm -rf "$work"
         mkdir -p "$corpus"
-        cp tests/fuzz/corpus/"$t"/* "$corpus/" 2>/dev/null || true
+        seed_corpus "$t" "$corpus"
     fi
     log="$work/fuzz.log"
     status=0

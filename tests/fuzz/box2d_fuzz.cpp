@@ -33,10 +33,12 @@
 // Built as a fuzzer by scripts/fuzz.sh --target box2d; replayed over tests/fuzz/corpus/box2d by
 // fuzz_replay_main.cpp in every normal test run.
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <iterator>
 #include <string>
 #include <utility>
 #include <vector>
@@ -50,6 +52,7 @@
 #include "quadphase/ray.h"
 #include "quadphase/trace.h"
 #include "stock/stock_broad_phase.h"
+#include "strict_segment.h"
 
 namespace
 {
@@ -96,6 +99,25 @@ void OnError(quadphase::ErrorCode, const char* message, void*)
     Diverge("an error was reported for valid input", 1, 0);
 }
 
+/// Prints the ids in one sorted list and not the other (before a divergence on two sets).
+void PrintDifference(const char* what, const std::vector<int32_t>& a, const std::vector<int32_t>& b)
+{
+    std::vector<int32_t> onlyA, onlyB;
+    std::set_difference(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(onlyA));
+    std::set_difference(b.begin(), b.end(), a.begin(), a.end(), std::back_inserter(onlyB));
+    std::fprintf(stderr, "box2d_fuzz: %s: only quadphase:", what);
+    for (int32_t id : onlyA)
+    {
+        std::fprintf(stderr, " %d", id);
+    }
+    std::fprintf(stderr, "; only the reference:");
+    for (int32_t id : onlyB)
+    {
+        std::fprintf(stderr, " %d", id);
+    }
+    std::fprintf(stderr, "\n");
+}
+
 bool SameBits(const b2AABB& a, const b2AABB& b)
 {
     return std::memcmp(&a, &b, sizeof(b2AABB)) == 0;
@@ -131,6 +153,42 @@ float EntryFraction(const b2AABB& tight, const b2RayCastInput& input)
     return tight.RayCast(&out, input) ? out.fraction : -1.0f;
 }
 
+/// b2DynamicTree::RayCast's test for one node, with Box2D's own arithmetic (b2_dynamic_tree.h): the segment's
+/// bounding box must overlap the node's AABB, and the separating axis along the segment's normal must not
+/// separate them.
+class LeafTest
+{
+public:
+    explicit LeafTest(const b2RayCastInput& input) : m_p1(input.p1)
+    {
+        b2Vec2 r = input.p2 - input.p1;
+        r.Normalize();
+        m_v = b2Cross(1.0f, r);
+        m_absV = b2Abs(m_v);
+        const b2Vec2 t = m_p1 + input.maxFraction * (input.p2 - m_p1);
+        m_segment.lowerBound = b2Min(m_p1, t);
+        m_segment.upperBound = b2Max(m_p1, t);
+    }
+
+    bool Crosses(const b2AABB& aabb) const
+    {
+        if (!b2TestOverlap(aabb, m_segment))
+        {
+            return false;
+        }
+        const b2Vec2 c = aabb.GetCenter();
+        const b2Vec2 h = aabb.GetExtents();
+        const float separation = b2Abs(b2Dot(m_v, m_p1 - c)) - b2Dot(m_absV, h);
+        return !(separation > 0.0f);
+    }
+
+private:
+    b2Vec2 m_p1;
+    b2Vec2 m_v;
+    b2Vec2 m_absV;
+    b2AABB m_segment;
+};
+
 struct Proxy
 {
     int32 qp = -1;    // quadphase's id
@@ -144,7 +202,7 @@ struct Scratch
 {
     std::vector<std::pair<void*, void*>> quadphasePairs, stockPairs;
     std::vector<std::pair<int32_t, int32_t>> a, b;
-    std::vector<int32_t> ids, other;
+    std::vector<int32_t> ids, other, third, fourth;
 };
 
 class Run;
@@ -355,6 +413,10 @@ private:
 
     void MoveProxy(int32 qp, const b2AABB& box, const b2Vec2& d)
     {
+        if (!quadphase::IsSane(ToBox(box)) || !std::isfinite(d.x) || !std::isfinite(d.y))
+        {
+            return; // a shift or a velocity that overflowed: not a call a valid world makes
+        }
         Proxy& p = m_proxy[size_t(qp)];
         TRACE("MoveProxy %d (%.9g, %.9g)-(%.9g, %.9g) d (%.9g, %.9g)", qp, box.lowerBound.x, box.lowerBound.y,
               box.upperBound.x, box.upperBound.y, d.x, d.y);
@@ -579,6 +641,7 @@ private:
         StockQuery(box, want);
         if (got != want)
         {
+            PrintDifference("Query", got, want);
             Diverge("Query: proxies", long(got.size()), long(want.size()));
         }
         got.clear();
@@ -662,6 +725,63 @@ private:
         std::sort(out.begin(), out.end());
     }
 
+    /// The proxies whose fat AABB passes b2DynamicTree::RayCast's test for a leaf, over every live proxy
+    /// (sorted). This is the all-hits answer both contracts state. Stock's tree applies the same test to
+    /// every ancestor first, and that test's float rounding on a large ancestor can cull a leaf that passes
+    /// its own (seen with boxes 1e11 m tall): stock's answer is a subset.
+    void LeafRay(const b2RayCastInput& ray, std::vector<int32_t>& out)
+    {
+        const LeafTest test(ray);
+        out.clear();
+        for (int32 qp : m_live)
+        {
+            if (test.Crosses(m_stock.GetFatAABB(m_proxy[size_t(qp)].stock)))
+            {
+                out.push_back(qp);
+            }
+        }
+        std::sort(out.begin(), out.end());
+    }
+
+    /// True when every live fat AABB and the ray lie within 65536 m of the origin: then float rounding in the
+    /// segment tests (a few ulps, under 0.03 m) stays below b2_aabbExtension, so no clipped segment can miss
+    /// a shape it enters and the closest hit does not depend on the order of the walk.
+    bool Bounded(const b2RayCastInput& ray) const
+    {
+        const float limit = quadphase::fuzz::kExactRayLimit;
+        const auto in = [limit](const b2Vec2& p)
+        { return std::fabs(p.x) <= limit && std::fabs(p.y) <= limit; };
+        if (!in(ray.p1) || !in(ray.p2) || !(ray.maxFraction <= 1.0f))
+        {
+            return false;
+        }
+        for (int32 qp : m_live)
+        {
+            const b2AABB& fat = m_stock.GetFatAABB(m_proxy[size_t(qp)].stock);
+            if (!in(fat.lowerBound) || !in(fat.upperBound))
+            {
+                return false;
+            }
+        }
+        return true;
+    }
+
+    /// The proxies the segment crosses with a margin (strict_segment.h), sorted: what RayCast must report
+    /// beyond kExactRayLimit.
+    void StrictRay(const b2RayCastInput& ray, std::vector<int32_t>& out)
+    {
+        const quadphase::RayInput in{{ray.p1.x, ray.p1.y}, {ray.p2.x, ray.p2.y}, ray.maxFraction};
+        out.clear();
+        for (int32 qp : m_live)
+        {
+            if (quadphase::fuzz::StrictlyCrosses(ToBox(m_stock.GetFatAABB(m_proxy[size_t(qp)].stock)), in))
+            {
+                out.push_back(qp);
+            }
+        }
+        std::sort(out.begin(), out.end());
+    }
+
     void RayCast()
     {
         const uint8_t mode = m_in->Byte();
@@ -680,21 +800,41 @@ private:
         {
             std::vector<int32_t>& got = m_s.ids;
             std::vector<int32_t>& want = m_s.other;
+            std::vector<int32_t>& stock = m_s.third;
+            std::vector<int32_t>& strict = m_s.fourth;
             got.clear();
             RayCollector all{&got, -1};
             m_bp.RayCast(&all, ray);
             std::sort(got.begin(), got.end());
-            StockRay(ray, want);
-            if (got != want)
+            LeafRay(ray, want);
+            StrictRay(ray, strict);
+            const bool exact = Bounded(ray);
+            if (exact ? got != want
+                      : !(std::includes(got.begin(), got.end(), strict.begin(), strict.end()) &&
+                          std::includes(want.begin(), want.end(), got.begin(), got.end())))
             {
-                Diverge("RayCast (all hits): proxies", long(got.size()), long(want.size()));
+                PrintDifference("RayCast (all hits)", got, exact ? want : strict);
+                Diverge(exact
+                            ? "RayCast (all hits): proxies (b2DynamicTree's leaf test)"
+                            : "RayCast (all hits, beyond the exact range): a crossed proxy missed or one the "
+                              "leaf test rejects reported",
+                        long(got.size()), long(want.size()));
             }
+            StockRay(ray, stock);
+            if (!std::includes(want.begin(), want.end(), stock.begin(), stock.end()))
+            {
+                Diverge(
+                    "RayCast (all hits): stock reports a proxy its leaf test rejects (the replica is wrong)",
+                    long(want.size()), long(stock.size()));
+            }
+            quadphase::fuzz::g_stats.stockRayMisses += int64_t(want.size() - stock.size());
+            const size_t wanted = got.empty() ? 0u : 1u;
             got.clear();
             RayCollector first{&got, 1};
             m_bp.RayCast(&first, ray);
-            if (got.size() != (want.empty() ? 0u : 1u))
+            if (got.size() != wanted)
             {
-                Diverge("RayCast: stopped after the first hit", long(got.size()), long(want.size()));
+                Diverge("RayCast: stopped after the first hit", long(got.size()), long(wanted));
             }
             break;
         }
@@ -706,15 +846,26 @@ private:
             ClosestHit theirs{this, true};
             m_bp.RayCast(&mine, ray);
             m_stock.RayCast(ray, &ClosestHit::Stock, &theirs);
-            if (mine.fraction != theirs.fraction)
-            {
-                Diverge("RayCast (closest hit): proxy", mine.qp, theirs.qp);
-            }
             // Ties (two shapes entered at the same fraction) may resolve to either proxy.
             if (mine.qp >= 0 && EntryFraction(m_proxy[size_t(mine.qp)].tight, ray) != mine.fraction)
             {
                 Diverge("RayCast (closest hit): the proxy is not hit at the closest fraction", mine.qp,
                         theirs.qp);
+            }
+            if (Bounded(ray))
+            {
+                // The order-free answer: the nearest entry into any shape whose proxy the leaf test accepts.
+                float nearest = 2.0f;
+                LeafRay(ray, m_s.other);
+                for (int32_t qp : m_s.other)
+                {
+                    const float f = EntryFraction(m_proxy[size_t(qp)].tight, ray);
+                    nearest = f >= 0.0f && f < nearest ? f : nearest;
+                }
+                if (mine.fraction != nearest || theirs.fraction != nearest)
+                {
+                    Diverge("RayCast (closest hit): proxy", mine.qp, theirs.qp);
+                }
             }
             break;
         }
@@ -732,7 +883,8 @@ private:
         kCreated = 2,
         kMoved = 4,
         kDestroyed = 8,
-        kExpected = 16,
+        kExpected = 16, // untouched: must be reported (unless the call is stopped or clipped)
+        kAllowed = 32,  // untouched: may be reported
     };
 
     struct Reentry
@@ -785,9 +937,7 @@ private:
             }
             else
             {
-                const quadphase::SegmentTest segment(quadphase::RayInput{
-                    {input->p1.x, input->p1.y}, {input->p2.x, input->p2.y}, input->maxFraction});
-                reachable = segment.MayCross(ToBox(fat));
+                reachable = LeafTest(*input).Crosses(fat);
             }
             if (!reachable)
             {
@@ -795,9 +945,12 @@ private:
                         0);
             }
         }
-        else if ((f & kExpected) == 0)
+        else if ((f & kAllowed) == 0)
         {
-            Diverge("re-entrant call: reported an untouched proxy that stock does not find", id, 0);
+            Diverge("re-entrant call: reported an untouched proxy that stock does not find (Query) or the "
+                    "leaf test "
+                    "rejects (RayCast)",
+                    id, 0);
         }
         float value = -1.0f; // go on (Query: true; RayCast: unchanged)
         if (call.clip && input != nullptr)
@@ -875,14 +1028,29 @@ private:
     /// contracts promise.
     void Reentrant(const b2AABB& box, const b2RayCastInput* ray, bool clip)
     {
-        std::vector<int32_t> expected; // not scratch: nested queries use the scratch buffers
+        // Not scratch: nested queries use the scratch buffers.
+        std::vector<int32_t> expected; // must be reported if untouched
+        std::vector<int32_t> allowed;  // may be reported if untouched
         if (ray == nullptr)
         {
             StockQuery(box, expected);
+            allowed = expected;
         }
         else
         {
-            StockRay(*ray, expected);
+            LeafRay(*ray, allowed);
+            if (Bounded(*ray))
+            {
+                expected = allowed;
+            }
+            else
+            {
+                StrictRay(*ray, expected);
+            }
+        }
+        for (int32_t qp : allowed)
+        {
+            Mark(qp, kAllowed);
         }
         for (int32_t qp : expected)
         {
@@ -906,7 +1074,10 @@ private:
                 const uint8_t f = m_flags[size_t(qp)];
                 if ((f & (kCreated | kMoved | kDestroyed)) == 0 && (f & kReported) == 0)
                 {
-                    Diverge("re-entrant call: an untouched proxy that stock finds was not reported", qp, 0);
+                    Diverge("re-entrant call: an untouched proxy that stock finds (Query) or the leaf test "
+                            "accepts "
+                            "(RayCast) was not reported",
+                            qp, 0);
                 }
             }
         }

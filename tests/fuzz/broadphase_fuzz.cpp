@@ -40,6 +40,7 @@
 #include "quadphase/error.h"
 #include "quadphase/quadtree_broad_phase.h"
 #include "quadphase/ray.h"
+#include "strict_segment.h"
 
 using namespace quadphase;
 using quadphase::fuzz::Reader;
@@ -459,9 +460,15 @@ private:
         const bool any = !a.ids->empty();
         SaneOnly(*a.ids);
         SaneOnly(*r.ids);
-        if (*a.ids != *r.ids)
+        const bool exact = Bounded();
+        if (exact ? *a.ids != *r.ids
+                  : !(std::includes(r.ids->begin(), r.ids->end(), a.ids->begin(), a.ids->end()) &&
+                      StrictlyCrossedReported(ray, *a.ids)))
         {
-            Diverge("RayCast: candidate sets (sane proxies)", long(a.ids->size()), long(r.ids->size()), m_op);
+            Diverge(exact
+                        ? "RayCast: candidate sets (sane proxies)"
+                        : "RayCast beyond the exact range: a crossed proxy missed or a rejected one reported",
+                    long(a.ids->size()), long(r.ids->size()), m_op);
         }
         m_s.firstIds.clear();
         Collector first{&m_s.firstIds, 1};
@@ -476,7 +483,8 @@ private:
         ClosestHit qc{&m_tight, &m_sane}, rc{&m_tight, &m_sane};
         m_qt.RayCast(ray, &ClosestHit::Ray, &qc);
         m_bf.RayCast(ray, &ClosestHit::Ray, &rc);
-        if (qc.fraction != rc.fraction)
+        if (exact &&
+            qc.fraction != rc.fraction) // beyond the exact range the walk's order decides (strict_segment.h)
         {
             Diverge("RayCast: closest hit (proxy)", qc.id, rc.id, m_op);
         }
@@ -484,6 +492,37 @@ private:
         {
             Diverge("RayCast: closest hit not hit at its fraction", qc.id, rc.id, m_op);
         }
+    }
+
+    /// True when every sane live fat box lies within fuzz::kExactRayLimit of the origin (the rays always do):
+    /// RayCast is then compared with the brute force exactly (strict_segment.h).
+    bool Bounded() const
+    {
+        const float limit = fuzz::kExactRayLimit;
+        for (ProxyId id : m_live)
+        {
+            const Box& b = m_bf.GetFatBox(id);
+            if (m_sane[size_t(id)] && !(std::fabs(b.minX) <= limit && std::fabs(b.minY) <= limit &&
+                                        std::fabs(b.maxX) <= limit && std::fabs(b.maxY) <= limit))
+            {
+                return false;
+            }
+        }
+        return true;
+    }
+
+    /// Every sane live proxy the segment crosses with a margin is among `reported` (sorted).
+    bool StrictlyCrossedReported(const RayInput& ray, const std::vector<ProxyId>& reported) const
+    {
+        for (ProxyId id : m_live)
+        {
+            if (m_sane[size_t(id)] && fuzz::StrictlyCrosses(m_bf.GetFatBox(id), ray) &&
+                !std::binary_search(reported.begin(), reported.end(), id))
+            {
+                return false;
+            }
+        }
+        return true;
     }
 
     void ShiftOrigin(Reader& in)

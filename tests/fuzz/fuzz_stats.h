@@ -17,9 +17,10 @@ namespace fuzz
 struct Stats
 {
     int64_t inputs = 0;
-    int64_t operations = 0;  // program operations executed and checked
-    int64_t validations = 0; // QuadtreeBroadPhase::Validate() calls
-    int64_t reentrant = 0;   // broadphase calls made from inside Query and RayCast callbacks
+    int64_t operations = 0;     // program operations executed and checked
+    int64_t validations = 0;    // QuadtreeBroadPhase::Validate() calls
+    int64_t reentrant = 0;      // broadphase calls made from inside Query and RayCast callbacks
+    int64_t stockRayMisses = 0; // box2d: proxies stock's tree culled that its own leaf test accepts
     ~Stats()
     {
         const char* on = std::getenv("QP_FUZZ_STATS");
@@ -27,8 +28,8 @@ struct Stats
         {
             std::fprintf(stderr,
                          "qp_fuzz_stats: inputs %" PRId64 " operations %" PRId64 " validations %" PRId64
-                         " reentrant_calls %" PRId64 "\n",
-                         inputs, operations, validations, reentrant);
+                         " reentrant_calls %" PRId64 " stock_ray_misses %" PRId64 "\n",
+                         inputs, operations, validations, reentrant, stockRayMisses);
         }
     }
 };
