@@ -8,53 +8,38 @@ bench/results/parallel.md, parallel.csv and parallel.png. See bench/README.md fo
 """
 
 import argparse
-import csv
-import json
 import math
 import os
-import platform
 import random
-import shutil
 import statistics
-import subprocess
 import sys
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-REPO = os.path.dirname(HERE)
+sys.path.insert(0, HERE)
+from qpbench import machine, paper, plot, report, run  # noqa: E402
+from qpbench.report import fixed as fmt, table  # noqa: E402
+from qpbench.stats import amdahl, karp_flatt, round_ratios  # noqa: E402
 
-# The paper's Tables 1 and 2: objects handled within 20 ms (higher is better), by quadtree depth 4..9.
-PAPER_DEPTHS = [4, 5, 6, 7, 8, 9]
-PAPER = {
-    "i7-7500U (2 cores / 4 threads)": {
-        "Seq.": [7970, 15200, 26300, 41600, 39500, 28600],
-        "Static": [5430, 10390, 19600, 33900, 51600, 58900],
-        "Dyn.": [5460, 10340, 19300, 33800, 51000, 46700],
-        "Guided": [5420, 10280, 19300, 33700, 51600, 47800],
-    },
-    "Ryzen 7 1700 (8 cores / 16 threads)": {
-        "Seq.": [8970, 17100, 30700, 49200, 54000, 33600],
-        "Static": [4790, 9460, 17600, 30800, 42500, 39400],
-        "Dyn.": [4780, 9190, 17200, 30500, 41800, 37300],
-        "Guided": [4780, 9210, 17200, 30600, 40600, 37500],
-    },
-}
 THRESHOLDS = [0, 64, 128, 256, 512, 1024, 4096]
+# Options whose default depends on the version: (option, quick, full, help).
+PROFILE_OPTIONS = [("repeats", 7, 11, "timed rounds"), ("table-warmup", 60, 120, "(a) warm-up steps"),
+                   ("table-steps", 30, 60, "(a) timed steps"), ("particles-warmup", 60, 120, "(b) particles warm-up"),
+                   ("particles-steps", 30, 60, "(b) particles timed steps"),
+                   ("rain-warmup", 120, 600, "(b) rain warm-up: bodies falling (quick), pile forming (full)"),
+                   ("rain-steps", 30, 60, "(b) rain timed steps"), ("sweep-bullets-size", 1000, 2000, "(c) bullets size"),
+                   ("sweep-steps", 60, 120, "(c) sweep timed steps")]
 
 
-# ----------------------------------------------------------------------------------------------------------------
-# Options
-# ----------------------------------------------------------------------------------------------------------------
 def parse_args():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--build-dir", default=os.path.join(REPO, "build-bench"),
+    ap.add_argument("--build-dir", default=os.path.join(os.path.dirname(HERE), "build-bench"),
                     help="build directory holding bench/qp-* (default: build-bench)")
     ap.add_argument("--results", default=os.path.join(HERE, "results"),
                     help="where parallel.md/.csv/.png go (default: bench/results)")
     ap.add_argument("--work", default=None, help="traces, hashes, logs (default: BUILD_DIR/tmp)")
     ap.add_argument("--full", action="store_true",
                     help="longer version: more repeats and steps, rain recorded until its pile has formed")
-    ap.add_argument("--repeats", type=int, default=None, help="timed rounds (quick 7, full 11)")
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--sections", default="a,b,c,d,e", help="subset of a,b,c,d,e (default: all)")
     ap.add_argument("--note", default="", help="a sentence to print under the report's title")
@@ -65,135 +50,24 @@ def parse_args():
                     help="before each timed round, wait up to this many seconds for other processes to use "
                          "less than --quiet-cpus CPUs (default 20; 0: never wait)")
     ap.add_argument("--quiet-cpus", type=float, default=0.3)
-    # (a) the paper's tables
-    ap.add_argument("--table-size", type=int, default=50000)
-    ap.add_argument("--table-warmup", type=int, default=None, help="quick 60, full 120")
-    ap.add_argument("--table-steps", type=int, default=None, help="quick 30, full 60")
+    for name, quick, full, what in PROFILE_OPTIONS:
+        ap.add_argument("--" + name, type=int, default=None, help=f"{what} (quick {quick}, full {full})")
+    for name, default in (("table-size", 50000), ("particles-size", 100000), ("rain-size", 65536), ("small-size", 200),
+                          ("small-warmup", 60), ("small-steps", 1000), ("sweep-particles-size", 10000),
+                          ("sweep-warmup", 150)):  # sweep-warmup: bullets fires every bullet once in 120 steps
+        ap.add_argument("--" + name, type=int, default=default)
     ap.add_argument("--depths", default="4,5,6,7,8,9,auto")
-    # (b) speed-up of 2 threads
-    ap.add_argument("--particles-size", type=int, default=100000)
-    ap.add_argument("--particles-warmup", type=int, default=None, help="quick 60, full 120")
-    ap.add_argument("--particles-steps", type=int, default=None, help="quick 30, full 60")
-    ap.add_argument("--rain-size", type=int, default=65536)
-    ap.add_argument("--rain-warmup", type=int, default=None,
-                    help="quick 120 (bodies falling), full 600 (pile forming)")
-    ap.add_argument("--rain-steps", type=int, default=None, help="quick 30, full 60")
-    # (c) small scenes and the threshold sweep
-    ap.add_argument("--small-size", type=int, default=200)
-    ap.add_argument("--small-warmup", type=int, default=60)
-    ap.add_argument("--small-steps", type=int, default=1000)
-    ap.add_argument("--sweep-particles-size", type=int, default=10000)
-    ap.add_argument("--sweep-bullets-size", type=int, default=None, help="quick 1000, full 2000")
-    ap.add_argument("--sweep-warmup", type=int, default=150,
-                    help="warm-up steps of the sweep scenes (bullets fires every bullet once in 120 steps)")
-    ap.add_argument("--sweep-steps", type=int, default=None, help="quick 60, full 120")
     ap.add_argument("--thresholds", default=",".join(str(t) for t in THRESHOLDS))
     a = ap.parse_args()
-
-    def pick(value, quick, full):
-        return value if value is not None else (full if a.full else quick)
-
-    a.repeats = pick(a.repeats, 7, 11)
-    a.table_warmup = pick(a.table_warmup, 60, 120)
-    a.table_steps = pick(a.table_steps, 30, 60)
-    a.particles_warmup = pick(a.particles_warmup, 60, 120)
-    a.particles_steps = pick(a.particles_steps, 30, 60)
-    a.rain_warmup = pick(a.rain_warmup, 120, 600)
-    a.rain_steps = pick(a.rain_steps, 30, 60)
-    a.sweep_bullets_size = pick(a.sweep_bullets_size, 1000, 2000)
-    a.sweep_steps = pick(a.sweep_steps, 60, 120)
+    for name, quick, full, _ in PROFILE_OPTIONS:
+        key = name.replace("-", "_")
+        if getattr(a, key) is None:
+            setattr(a, key, full if a.full else quick)
     a.sections = set(s.strip() for s in a.sections.split(",") if s.strip())
     a.depths = [d.strip() for d in a.depths.split(",") if d.strip()]
     a.thresholds = [int(t) for t in a.thresholds.split(",") if t.strip()]
     a.work = a.work or os.path.join(a.build_dir, "tmp")
     return a
-
-
-# ----------------------------------------------------------------------------------------------------------------
-# Running the tools
-# ----------------------------------------------------------------------------------------------------------------
-class Runner:
-    def __init__(self, args):
-        self.args = args
-        self.bin = os.path.join(args.build_dir, "bench")
-        for tool in ("qp-record", "qp-replay", "qp-replay-stock"):
-            if not os.access(os.path.join(self.bin, tool), os.X_OK):
-                sys.exit(f"parallel.py: {tool} not found in {self.bin}; run bench/parallel.sh (it builds them)")
-        self.traces = os.path.join(args.work, "traces")
-        os.makedirs(self.traces, exist_ok=True)
-        self.jsonl = os.path.join(args.work, "parallel.jsonl")
-        self.log = open(os.path.join(args.work, "parallel.log"), "w")
-        if os.path.exists(self.jsonl):
-            os.remove(self.jsonl)
-        self.quiet_samples = []  # CPUs used by other processes before each timed round
-
-    def run(self, tool, *argv, ok_codes=(0,)):
-        cmd = [os.path.join(self.bin, tool)] + [str(a) for a in argv]
-        self.log.write("$ " + " ".join(cmd) + "\n")
-        self.log.flush()
-        p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-        self.log.write(p.stdout)
-        self.log.flush()
-        if p.returncode not in ok_codes:
-            print(p.stdout)
-            sys.exit(f"parallel.py: {' '.join(cmd)} failed with code {p.returncode}")
-        return p.returncode, p.stdout
-
-    def trace_path(self, scene, size, warmup, steps):
-        return os.path.join(self.traces, f"{scene}-{size}-w{warmup}-s{steps}-seed{self.args.seed}.qptrace")
-
-    def record(self, scene, size, warmup, steps):
-        path = self.trace_path(scene, size, warmup, steps)
-        want = {"scene": scene, "size": str(size), "seed": str(self.args.seed), "warmup": str(warmup),
-                "steps": str(steps)}
-        if not self.args.rerecord and os.path.exists(path) and os.path.exists(path + ".steps"):
-            have = {}
-            with open(path + ".steps") as f:
-                for line in f:
-                    parts = line.split()
-                    if len(parts) == 2 and parts[0] in want:
-                        have[parts[0]] = parts[1]
-            if have == want:
-                log(f"  {scene} {size}: reusing {path}")
-                return path
-        t0 = time.time()
-        _, out = self.run("qp-record", "--scene", scene, "--size", size, "--seed", self.args.seed,
-                          "--warmup", warmup, "--steps", steps, "--out", path)
-        log(f"  {scene} {size}: recorded {warmup} + {steps} steps in {time.time() - t0:.0f} s")
-        for line in out.splitlines():
-            if line.startswith(("bodies", "ops", "scene")):
-                log("    " + line)
-        return path
-
-    def cpus_busy(self, seconds=0.5):
-        def sample():
-            with open("/proc/stat") as f:
-                v = [int(x) for x in f.readline().split()[1:]]
-            idle = v[3] + (v[4] if len(v) > 4 else 0)
-            return idle, sum(v)
-        i0, t0 = sample()
-        time.sleep(seconds)
-        i1, t1 = sample()
-        ncpu = os.cpu_count() or 1
-        return ncpu * (1.0 - (i1 - i0) / max(1, t1 - t0))
-
-    def wait_quiet(self):
-        start = time.time()
-        busy = self.cpus_busy()
-        while busy > self.args.quiet_cpus and time.time() - start < self.args.wait_quiet:
-            busy = self.cpus_busy(1.0)
-        self.quiet_samples.append(busy)
-        return busy
-
-    def results(self):
-        rows = []
-        if os.path.exists(self.jsonl):
-            with open(self.jsonl) as f:
-                for line in f:
-                    line = line.strip()
-                    if line:
-                        rows.append(json.loads(line))
-        return rows
 
 
 def log(msg):
@@ -204,87 +78,36 @@ def log(msg):
 DEFAULT = {"threshold": 512, "schedule": "guided"}
 
 
+def set_defaults(default_config):
+    for kv in default_config.split():
+        k, _, v = kv.partition("=")
+        if k in DEFAULT:
+            DEFAULT[k] = int(v) if k == "threshold" else v
+
+
 def cfg(threads=1, schedule=None, depth="auto", threshold=None, chunk=0):
-    if threshold is None:
-        threshold = DEFAULT["threshold"]
-    if schedule is None:
-        schedule = DEFAULT["schedule"]
-    return {"threads": threads, "schedule": schedule, "depth": -1 if depth == "auto" else int(depth),
-            "threshold": threshold, "chunk": chunk}
+    return {"threads": threads, "schedule": schedule or DEFAULT["schedule"],
+            "depth": -1 if depth == "auto" else int(depth),
+            "threshold": DEFAULT["threshold"] if threshold is None else threshold, "chunk": chunk}
 
 
 def cfg_arg(c):
-    return ("threads={threads},schedule={schedule},depth={depth},threshold={threshold},chunk={chunk}"
-            .format(**c))
+    return "threads={threads},schedule={schedule},depth={depth},threshold={threshold},chunk={chunk}".format(**c)
 
 
 def cfg_key(c):
     return (c["threads"], c["schedule"], c["depth"], c["threshold"], c["chunk"])
 
 
-# ----------------------------------------------------------------------------------------------------------------
-# Machine description
-# ----------------------------------------------------------------------------------------------------------------
-def machine(runner):
-    info = {}
-    try:
-        with open("/proc/cpuinfo") as f:
-            for line in f:
-                if line.startswith("model name"):
-                    info["cpu"] = line.split(":", 1)[1].strip()
-                    break
-    except OSError:
-        info["cpu"] = platform.processor() or "unknown"
-    info["cores"] = os.cpu_count()
-    lscpu = shutil.which("lscpu")
-    if lscpu:
-        out = subprocess.run([lscpu], stdout=subprocess.PIPE, text=True).stdout
-        for line in out.splitlines():
-            k, _, v = line.partition(":")
-            k, v = k.strip(), v.strip()
-            if k in ("Thread(s) per core", "Core(s) per socket", "Socket(s)", "L2 cache", "L3 cache",
-                     "Hypervisor vendor"):
-                info[k] = v
-    _, out = runner.run("qp-replay", "--print-config")
-    for line in out.splitlines():
-        if line.startswith("default_config"):
-            for kv in line.split()[1:]:
-                k, _, v = kv.partition("=")
-                if k == "threshold":
-                    DEFAULT["threshold"] = int(v)
-                if k == "schedule":
-                    DEFAULT["schedule"] = v
-            info["default_config"] = line.split(" ", 1)[1]
-    try:
-        head = subprocess.run(["git", "-C", REPO, "log", "-1", "--format=%h %s"], stdout=subprocess.PIPE,
-                              stderr=subprocess.DEVNULL, text=True).stdout.strip()
-        dirty = subprocess.run(["git", "-C", REPO, "status", "--porcelain", "--", "plugin"], stdout=subprocess.PIPE,
-                               stderr=subprocess.DEVNULL, text=True).stdout.strip()
-        info["git"] = (head or "unknown") + (" (plus uncommitted changes in plugin/)" if dirty else "")
-    except OSError:
-        info["git"] = "unknown"
-    _, out = runner.run("qp-replay", "--omp-overhead", "--json", runner.jsonl, "--label", "machine")
-    first = out.splitlines()[0]
-    info["tools"] = first.replace("machine: ", "")
-    info["kernel"] = platform.release()
-    info["loadavg_start"] = open("/proc/loadavg").read().split()[:3]
-    info["omp_env"] = {k: v for k, v in os.environ.items() if k.startswith(("OMP_", "GOMP_"))}
-    return info
-
-
-# ----------------------------------------------------------------------------------------------------------------
-# Statistics
-# ----------------------------------------------------------------------------------------------------------------
 def med(values):
     return statistics.median(values) if values else float("nan")
 
 
 class Results:
+    """The JSON lines by (trace, engine[, configuration]): timed runs, checking runs, OpenMP overhead."""
+
     def __init__(self, rows):
-        self.runs = {}
-        self.checks = {}
-        self.stock_checks = {}
-        self.omp = []
+        self.runs, self.checks, self.stock_checks, self.omp = {}, {}, {}, []
         for r in rows:
             if r.get("kind") == "omp_overhead":
                 self.omp.append(r)
@@ -299,10 +122,8 @@ class Results:
             if r.get("kind") == "run":
                 self.runs.setdefault(key, []).append(r)
             elif r.get("kind") == "check":
-                if r["tool"] == "qp-replay-stock":
-                    self.stock_checks[trace] = r
-                else:
-                    self.checks[key] = r
+                (self.stock_checks if r["tool"] == "qp-replay-stock" else self.checks)[
+                    trace if r["tool"] == "qp-replay-stock" else key] = r
 
     def key(self, trace, c):
         return (trace, "quadtree") + cfg_key(c)
@@ -333,57 +154,20 @@ class Results:
         return len(self.runs.get(key, []))
 
     def ratios(self, key_num, key_den, field="step_ns"):
-        """Per-round ratios num/den (rounds pair up because every round runs both)."""
-        a = {(r["rep_round"], r.get("rep", 0)): r[field] for r in self.runs.get(key_num, []) if "rep_round" in r}
-        b = {(r["rep_round"], r.get("rep", 0)): r[field] for r in self.runs.get(key_den, []) if "rep_round" in r}
-        return [a[k] / b[k] for k in sorted(a) if k in b and b[k] > 0]
-
-
-def fmt(x, digits=2):
-    if x is None or (isinstance(x, float) and (math.isnan(x) or math.isinf(x))):
-        return "–"
-    return f"{x:.{digits}f}"
-
-
-def karp_flatt(speedup, p=2):
-    """Experimentally determined serial fraction: e = (1/S - 1/p) / (1 - 1/p)."""
-    if not speedup or speedup <= 0 or math.isnan(speedup):
-        return float("nan")
-    return (1.0 / speedup - 1.0 / p) / (1.0 - 1.0 / p)
-
-
-def amdahl(s, p):
-    s = min(max(s, 0.0), 1.0)
-    return 1.0 / (s + (1.0 - s) / p)
+        return round_ratios(self.runs.get(key_num, []), self.runs.get(key_den, []), field)
 
 
 # ----------------------------------------------------------------------------------------------------------------
 # The benchmark
 # ----------------------------------------------------------------------------------------------------------------
-def main():
-    args = parse_args()
-    if args.report_only:
-        return report_only(args)
-    t_start = time.time()
-    os.makedirs(args.work, exist_ok=True)
-    os.makedirs(args.results, exist_ok=True)
-    runner = Runner(args)
-    log(f"parallel.py: work directory {args.work}; {'full' if args.full else 'quick'} version, "
-        f"{args.repeats} timed rounds")
-    info = machine(runner)
-    log(f"machine: {info['cpu']}, {info['cores']} CPUs; {info['tools']}")
-
-    # ---- jobs: (section, scene, size, warmup, steps, configs, check mode, brute) ----
+def plan(args):
+    """Jobs: (section, scene, size, warmup, steps, configs, check mode, brute force, ...)."""
     jobs = []
-    if "a" in args.sections or "e" in args.sections:
-        table_cfgs = []
-        for d in args.depths:
-            table_cfgs.append(cfg(1, "static", d))
-            for sch in ("static", "dynamic", "guided"):
-                table_cfgs.append(cfg(2, sch, d))
+    if args.sections & {"a", "e"}:
+        configs = [c for d in args.depths for c in [cfg(1, "static", d)] + [cfg(2, s, d) for s in ("static", "dynamic", "guided")]]
         jobs.append(dict(section="a", scene="particles", size=args.table_size, warmup=args.table_warmup,
-                         steps=args.table_steps, configs=table_cfgs, check="all", brute=False))
-    if "b" in args.sections or "e" in args.sections or "d" in args.sections:
+                         steps=args.table_steps, configs=configs, check="all", brute=False))
+    if args.sections & {"b", "d", "e"}:
         for scene, size, w, s in (("particles", args.particles_size, args.particles_warmup, args.particles_steps),
                                   ("rain", args.rain_size, args.rain_warmup, args.rain_steps)):
             jobs.append(dict(section="b", scene=scene, size=size, warmup=w, steps=s,
@@ -392,18 +176,41 @@ def main():
     if "c" in args.sections:
         for scene in ("rain", "particles"):
             # Threshold 0 (every call parallel) runs in a process of its own, after the others, so its worker
-            # thread cannot disturb the 1-thread / 2-thread comparison.
-            # Steps of a few µs: 5 runs per round (inner=5) for more samples.
+            # thread cannot disturb the 1-thread / 2-thread comparison. Steps of a few µs: 5 runs per round.
             jobs.append(dict(section="c-small", scene=scene, size=args.small_size, warmup=args.small_warmup,
                              steps=args.small_steps, configs=[cfg(1), cfg(2)], separate=[cfg(2, threshold=0)],
                              check="all", brute=True, per_call=True, inner=5))
         for scene, size in (("particles", args.sweep_particles_size), ("bullets", args.sweep_bullets_size)):
-            cs = [cfg(1)] + [cfg(2, threshold=t) for t in args.thresholds]
             jobs.append(dict(section="c-sweep", scene=scene, size=size, warmup=args.sweep_warmup,
-                             steps=args.sweep_steps, configs=cs, check="all", brute=size <= 2500,
-                             per_call=True))
+                             steps=args.sweep_steps, configs=[cfg(1)] + [cfg(2, threshold=t) for t in args.thresholds],
+                             check="all", brute=size <= 2500, per_call=True))
+    return jobs
 
-    # ---- 1. record ----
+
+def main():
+    args = parse_args()
+    state_path = os.path.join(args.work, "parallel-state.json")
+    if args.report_only:
+        state = report.read_json(state_path)
+        set_defaults(state["info"].get("default_config", ""))
+        rows = run.Runner("parallel.py", "", args.work, "parallel", append=True).results()
+        report_all(args, state["info"], state["jobs"], Results(rows), state["mismatches"], state["timing"])
+        return 1 if any(state["mismatches"].values()) else 0
+    t_start = time.time()
+    os.makedirs(args.results, exist_ok=True)
+    runner = run.Runner("parallel.py", os.path.join(args.build_dir, "bench"), args.work, "parallel",
+                        tools=("qp-record", "qp-replay", "qp-replay-stock"), seed=args.seed, rerecord=args.rerecord,
+                        wait_quiet=args.wait_quiet, quiet_cpus=args.quiet_cpus, echo=log)
+    log(f"parallel.py: work directory {args.work}; {'full' if args.full else 'quick'} version, "
+        f"{args.repeats} timed rounds")
+    info = machine.describe(args.build_dir)
+    info["default_config"] = runner.run("qp-replay", "--print-config")[1].split(" ", 1)[1].strip()
+    set_defaults(info["default_config"])
+    info["tools"] = runner.run("qp-replay", "--omp-overhead", "--json", runner.jsonl, "--label", "machine")[1] \
+        .splitlines()[0].replace("machine: ", "")
+    log(f"machine: {info['cpu']}, {info['cores']} CPUs; {info['tools']}")
+    jobs = plan(args)
+
     log("recording traces (quadphase build of Box2D):")
     t0 = time.time()
     for j in jobs:
@@ -412,26 +219,20 @@ def main():
         j["display"] = f"{j['scene']} {j['size']}"
     t_record = time.time() - t0
 
-    # ---- 2. exactness: stock hashes, quadtree (every checked configuration) against them, brute force ----
-    log("checking pair sets (untimed): stock b2BroadPhase vs quadtree" + " (and brute force on small traces)")
+    log("checking pair sets (untimed): stock b2BroadPhase vs quadtree (and brute force on small traces)")
     t0 = time.time()
     mismatches = {}
     for j in jobs:
-        stock_hash = j["trace"] + ".stock.hash"
-        quad_hash = j["trace"] + ".quadtree.hash"
+        stock_hash, quad_hash = j["trace"] + ".stock.hash", j["trace"] + ".quadtree.hash"
         runner.run("qp-replay-stock", "--trace", j["trace"], "--repeats", 0, "--check", "first",
                    "--hashes-out", stock_hash, "--json", runner.jsonl, "--label", j["section"])
         argv = ["--trace", j["trace"], "--repeats", 0, "--check", j["check"], "--compare-hashes", stock_hash,
                 "--hashes-out", quad_hash, "--json", runner.jsonl, "--label", j["section"]]
-        if j["brute"]:
-            argv.append("--brute")
-        if j.get("per_call"):
-            argv.append("--per-call")
+        argv += (["--brute"] if j["brute"] else []) + (["--per-call"] if j.get("per_call") else [])
         for c in j["configs"] + j.get("separate", []):
             argv += ["--config", cfg_arg(c)]
         code, out = runner.run("qp-replay", *argv, ok_codes=(0, 3))
-        # The script's own comparison of the two hash files (independent of qp-replay's).
-        bad = compare_hash_files(quad_hash, stock_hash)
+        bad = compare_hash_files(quad_hash, stock_hash)  # the script's own comparison, independent of qp-replay's
         if code == 3 or bad:
             for line in out.splitlines():
                 if "MISMATCH" in line:
@@ -445,92 +246,45 @@ def main():
     if any(mismatches.values()):
         log("*" * 80 + "\n*** EXACTNESS MISMATCH against stock Box2D: " + repr(mismatches) + "\n" + "*" * 80)
 
-    # ---- 3. replay-loop overhead (null engine), once per trace ----
-    for j in jobs:
+    for j in jobs:  # replay-loop overhead (null engine), once per trace
         runner.run("qp-replay", "--trace", j["trace"], "--engine", "null", "--repeats", 3, "--json", runner.jsonl,
                    "--label", j["section"])
 
-    # ---- 4. timed rounds: every round runs stock and every configuration of every trace once ----
     log(f"timed rounds ({args.repeats}):")
     t0 = time.time()
     for r in range(args.repeats):
         busy = runner.wait_quiet()
         tr = time.time()
         for j in jobs:
-            tag = f"{j['section']}|round={r}"
-            inner = j.get("inner", 1)
-            runner.run("qp-replay-stock", "--trace", j["trace"], "--repeats", inner, "--check", "none",
-                       "--json", runner.jsonl, "--label", tag)
-            argv = ["--trace", j["trace"], "--repeats", inner, "--check", "none", "--json", runner.jsonl,
-                    "--label", tag]
-            if j.get("per_call"):
-                argv.append("--per-call")
+            common = ["--trace", j["trace"], "--repeats", j.get("inner", 1), "--check", "none", "--json",
+                      runner.jsonl, "--label", f"{j['section']}|round={r}"]
+            runner.run("qp-replay-stock", *common)
+            per_call = ["--per-call"] if j.get("per_call") else []
             # The configurations run in a different (seeded) random order in every round, so a burst of other
             # activity on the machine does not always hit the same neighbours.
             order = list(j["configs"])
             random.Random(1000 * r + len(order)).shuffle(order)
-            for c in order:
-                argv += ["--config", cfg_arg(c)]
-            runner.run("qp-replay", *argv)
+            runner.run("qp-replay", *common, *per_call, *[x for c in order for x in ("--config", cfg_arg(c))])
             for c in j.get("separate", []):
-                argv = ["--trace", j["trace"], "--repeats", inner, "--check", "none", "--json", runner.jsonl,
-                        "--label", tag, "--config", cfg_arg(c)] + (["--per-call"] if j.get("per_call") else [])
-                runner.run("qp-replay", *argv)
+                runner.run("qp-replay", *common, "--config", cfg_arg(c), *per_call)
         log(f"  round {r + 1}/{args.repeats}: {time.time() - tr:.0f} s (other processes used {busy:.2f} CPUs "
             f"before it)")
     t_timed = time.time() - t0
 
-    rows = runner.results()
-    for row in rows:  # the round a run belongs to, for per-round ratios
-        lab = row.get("label", "")
-        if "|round=" in lab:
-            row["rep_round"] = int(lab.split("|round=")[1])
-    res = Results(rows)
     info["loadavg_end"] = open("/proc/loadavg").read().split()[:3]
-    info["quiet"] = runner.quiet_samples
+    info["quiet_samples"] = runner.quiet_samples
     timing = dict(record=t_record, check=t_check, timed=t_timed, total=time.time() - t_start)
-    with open(os.path.join(args.work, "parallel-state.json"), "w") as f:
-        json.dump(dict(info=info, jobs=jobs, mismatches=mismatches, timing=timing), f)
-    report(args, info, jobs, res, mismatches, timing)
+    report.write_json(state_path, dict(info=info, jobs=jobs, mismatches=mismatches, timing=timing))
+    report_all(args, info, jobs, Results(runner.results()), mismatches, timing)
     return 1 if any(mismatches.values()) else 0
-
-
-def report_only(args):
-    """Rewrites the report from the last run's parallel.jsonl and parallel-state.json (no measuring)."""
-    with open(os.path.join(args.work, "parallel-state.json")) as f:
-        state = json.load(f)
-    for kv in state["info"].get("default_config", "").split():
-        k, _, v = kv.partition("=")
-        if k == "threshold":
-            DEFAULT["threshold"] = int(v)
-        if k == "schedule":
-            DEFAULT["schedule"] = v
-    rows = []
-    with open(os.path.join(args.work, "parallel.jsonl")) as f:
-        for line in f:
-            if line.strip():
-                row = json.loads(line)
-                lab = row.get("label", "")
-                if "|round=" in lab:
-                    row["rep_round"] = int(lab.split("|round=")[1])
-                rows.append(row)
-    report(args, state["info"], state["jobs"], Results(rows), state["mismatches"], state["timing"])
-    return 1 if any(state["mismatches"].values()) else 0
 
 
 def compare_hash_files(a, b):
     def load(path):
-        out = []
         with open(path) as f:
-            for line in f:
-                if line.startswith("#") or not line.strip():
-                    continue
-                _, count, h = line.split()
-                out.append((count, h))
-        return out
+            return [tuple(line.split()[1:]) for line in f if line.strip() and not line.startswith("#")]
     x, y = load(a), load(b)
-    bad = sum(1 for i in range(max(len(x), len(y))) if i >= len(x) or i >= len(y) or x[i] != y[i])
-    return bad
+    return sum(1 for i in range(max(len(x), len(y))) if i >= len(x) or i >= len(y) or x[i] != y[i])
 
 
 # ----------------------------------------------------------------------------------------------------------------
@@ -548,7 +302,7 @@ def rain_floor_steps(n):
     return int(round(t * 60.0))
 
 
-def report(args, info, jobs, res, mismatches, timing):
+def report_all(args, info, jobs, res, mismatches, timing):
     md = []
     csv_rows = []
     sec = {}
@@ -575,7 +329,7 @@ def report(args, info, jobs, res, mismatches, timing):
                                              max(1, res.first(key, "steps", 1)), 2) if engine == "quadtree" else "",
         })
 
-    q = info.get("quiet", [])
+    info.setdefault("quiet_samples", info.get("quiet", []))
     md.append("# Parallel pair generation: measurements\n")
     md.append("Generated by `bench/parallel.sh" + (" --full" if args.full else "") + "` in one run "
               f"({timing['total'] / 60:.1f} min: recording {timing['record']:.0f} s, exactness checks "
@@ -584,21 +338,10 @@ def report(args, info, jobs, res, mismatches, timing):
               "[parallel.csv](parallel.csv).\n")
     if args.note:
         md.append(args.note + "\n")
-    md.append("## Machine\n")
-    md.append(f"- CPU: {info['cpu']}; {info['cores']} CPUs ("
-              + ", ".join(f"{k}: {info[k]}" for k in ("Socket(s)", "Core(s) per socket", "Thread(s) per core",
-                                                       "L2 cache", "L3 cache", "Hypervisor vendor") if k in info)
-              + ")")
-    md.append(f"- Code measured: git {info.get('git', 'unknown')}; core defaults: {info.get('default_config', '?')}")
-    md.append(f"- Build: {info['tools'].split('; ', 1)[-1]}; Linux {info['kernel']}; OpenMP environment: "
-              + (", ".join(f"{k}={v}" for k, v in info["omp_env"].items()) or "none set (libgomp defaults)"))
-    md.append(f"- Load: 1/5/15-min load average {' '.join(info['loadavg_start'])} at the start, "
-              f"{' '.join(info['loadavg_end'])} at the end. The machine is shared: before each timed round the "
-              f"script waited up to {args.wait_quiet:.0f} s for other processes to use < {args.quiet_cpus} CPUs; "
-              "they used " + (f"{min(q):.2f}–{max(q):.2f} CPUs (median {med(q):.2f})" if q else "–")
-              + " when the rounds started (they may have started more work during a round). Every figure is the "
-              "median over the rounds; every round ran every configuration (stock included) once, in a "
-              "different random order.")
+    md += report.machine_section(info)[:-1]
+    md.append(f"- The script waited up to {args.wait_quiet:.0f} s before each timed round for other processes to use "
+              f"< {args.quiet_cpus} CPUs (they may have started more work during a round). Every figure is the median "
+              "over the rounds; every round ran every configuration (stock included) once, in a different random order.")
     omp = {(o["schedule"], o["blocks"]): o["us"] for o in res.omp}
     if omp:
         md.append("- Cost of one OpenMP parallel region (2 threads, empty loop, regions back to back, so the "
@@ -661,19 +404,12 @@ def report(args, info, jobs, res, mismatches, timing):
         gauge = None
         gauge_find = None
         if twin:
-            fd = []
-            for label, th, sch in rows:
-                x = res.find_ms(res.key(na, cfg(th, sch, "auto")))
-                y = res.find_ms(res.key(na, cfg(th, sch, twin)))
-                if not math.isnan(x) and not math.isnan(y):
-                    fd.append(100.0 * abs(x - y) / min(x, y))
+            def spread(ms):  # % between "auto" and its twin depth, per row of the table
+                pairs = [(ms(res.key(na, cfg(th, sch, "auto"))), ms(res.key(na, cfg(th, sch, twin))))
+                         for _, th, sch in rows]
+                return [100.0 * abs(x - y) / min(x, y) for x, y in pairs if not math.isnan(x) and not math.isnan(y)]
+            fd, diffs = spread(res.find_ms), spread(res.step_ms)
             gauge_find = max(fd) if fd else None
-            diffs = []
-            for label, th, sch in rows:
-                x = res.step_ms(res.key(na, cfg(th, sch, "auto")))
-                y = res.step_ms(res.key(na, cfg(th, sch, twin)))
-                if not math.isnan(x) and not math.isnan(y):
-                    diffs.append(100.0 * abs(x - y) / min(x, y))
             if diffs:
                 gauge = max(diffs)
                 md.append(f"*Noise gauge:* \"auto\" and depth {twin} are the same configuration (same depth, same "
@@ -713,12 +449,9 @@ def report(args, info, jobs, res, mismatches, timing):
         md.append("The paper's Tables 1 and 2 (objects handled within 20 ms; **higher** is better; bold: the best of "
                   "each row). Its quadtree was rebuilt every frame and its threads appended to one shared, "
                   "lock-protected vector:\n")
-        for cpu, table in PAPER.items():
-            md.append(f"| {cpu} | " + " | ".join(str(d) for d in PAPER_DEPTHS) + " |")
-            md.append("|---" * (len(PAPER_DEPTHS) + 1) + "|")
-            for row, vals in table.items():
-                b = max(vals)
-                md.append(f"| {row} | " + " | ".join(f"**{v}**" if v == b else str(v) for v in vals) + " |")
+        for cpu, t in paper.TABLES.items():
+            md += table([cpu] + [str(d) for d in paper.DEPTHS], [[row] + [f"**{v}**" if v == max(vals) else str(v)
+                                                                    for v in vals] for row, vals in t.items()])
             md.append("")
         md.append(analysis_a(res, na, args.depths, shape, omp, gauge, gauge_find))
 
@@ -914,14 +647,8 @@ def report(args, info, jobs, res, mismatches, timing):
             md.append("![left: table (a) measured; right: projected speed-up](parallel.png)\n")
         md.append(analysis_e(amdahl_rows))
 
-    with open(os.path.join(args.results, "parallel.md"), "w") as f:
-        f.write("\n".join(md).rstrip() + "\n")
-    fields = list(csv_rows[0].keys()) if csv_rows else []
-    with open(os.path.join(args.results, "parallel.csv"), "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=fields)
-        w.writeheader()
-        for r in csv_rows:
-            w.writerow(r)
+    report.write_lines(os.path.join(args.results, "parallel.md"), md)
+    report.write_csv(os.path.join(args.results, "parallel.csv"), csv_rows)
     log(f"wrote {os.path.join(args.results, 'parallel.md')}, parallel.csv"
         + (", parallel.png" if "e" in args.sections else "") + f" ({timing['total'] / 60:.1f} min in all)")
 
@@ -1300,40 +1027,15 @@ def analysis_e(rows):
     out.append("")
     worst_share = max(r["share"] for r in rows)
     best_share = min(r["share"] for r in rows)
-    out.append("**How the design should scale to 16 cores, and what limits it:**\n")
-    deferred = any(r.get("r1", 0) > 0 for r in rows)
-    out.append(f"- **Serial MoveProxy calls (Amdahl).** Box2D calls MoveProxy one proxy at a time, so the work "
-               f"outside UpdatePairs is serial: m = {fmt(100 * best_share, 0)}–{fmt(100 * worst_share, 0)}% of the "
-               f"1-thread step here, and no thread count can beat {fmt(1 / worst_share, 1)}–"
-               f"{fmt(1 / best_share, 1)}×; the solid curves flatten well before 16 threads. "
-               + ("This overstates the serial part of the measured core: the adapter's MoveProxy only appends "
-                  "the move to a queue, and the queue is applied (fat-box rule, in-cell rewrite) on all threads every "
-                  "8192 moves and by FindPairs, so the serial rest of m is the append, the per-call overhead and the "
-                  "replay loop (null engine, (d)); the cell changes run batched inside FindPairs, on one thread "
-                  "(a parallel version was slower on this machine: docs/design.md, \"Grid maintenance\"), and "
-                  "become a serial part of s at higher thread counts. The whole-work Karp–Flatt fraction of (b) is "
-                  "the better gauge. "
-                  "Shrinking it further needs the caller to hand over a step's moves in bulk (Box2D's "
-                  "b2Body::SynchronizeFixtures loop), not a change inside the broadphase."
-                  if deferred else
-                  "In the measured core, MoveProxy also updates the cells, one proxy at a time. Deferring those "
-                  "updates to the next FindPairs and applying them in parallel (cell strips owned per thread, or a "
-                  "parallel counting sort of the moved proxies, in a fixed order so the result stays deterministic) "
-                  "moves most of m into the parallel part: towards the dashed curves."))
-    out.append("- **The join and the move-buffer hand-off.** FindPairs takes the move buffer and concatenates the "
-               "per-block vectors on one thread: O(buffered + pairs), small at 2 threads but a constant that does "
-               "not shrink with p, so it becomes a visible part of s at 16 (a parallel prefix sum over the block "
-               "sizes and a parallel copy remove the join).")
-    out.append("- **Memory.** A query is a handful of random cell reads; at these sizes the cell array outgrows the "
-               "per-core L2, so queries are latency-bound, not bandwidth-bound (a step reads a few MB of cells: "
-               "well under 1 GB/s at these step times). More cores add outstanding misses, which helps until the "
-               "shared L3 and memory controllers saturate; expect the curve to bend below Amdahl's before 16, and "
-               "SMT siblings (which share L1/L2) to add little.")
-    out.append("- **Block granularity.** Blocks are 64 queries whatever the thread count (that is what keeps the "
-               "output identical). The main call of these scenes has hundreds of blocks (table), enough for 16 "
-               "threads; a call with 2,000 buffered proxies has 32 blocks, 2 per thread at 16 threads, so one "
-               "block of imbalance costs up to a third, and below the threshold the call is serial anyway. Mid-size "
-               "scenes at high thread counts would want smaller blocks or dynamic scheduling.")
+    out.append(f"**How the design should scale to 16 cores, and what limits it** (the join, memory and block "
+               f"granularity: bench/README.md, section (e)): Box2D calls MoveProxy one proxy at a time, so the work "
+               f"outside UpdatePairs is m = {fmt(100 * best_share, 0)}–{fmt(100 * worst_share, 0)}% of the 1-thread "
+               f"step here, and were it all serial no thread count could beat {fmt(1 / worst_share, 1)}–"
+               f"{fmt(1 / best_share, 1)}×. This overstates the serial part: the adapter's MoveProxy only appends the "
+               "move to a queue, applied on all threads every 8192 moves and by FindPairs; the serial rest of m is "
+               "the append, the per-call overhead and the replay loop (null engine, (d)); the cell changes run "
+               "batched inside FindPairs on one thread (docs/design.md, \"Grid maintenance\"). The whole-work "
+               "Karp–Flatt fraction of (b) is the better gauge.")
     out.append("")
     return "\n".join(out)
 

@@ -16,6 +16,7 @@ packages=(
     libclang-rt-14-dev      # clang-14's sanitizer runtimes
     ca-certificates
     python3
+    pkg-config              # tests/package: a game finding Box2D through pkg-config box2d
     xz-utils
     debian-archive-keyring  # verifies the Debian archive when CMake fetches Box2D's source
     libcairo2-dev fonts-dejavu-core  # PNG frames of quadphase-scene (examples/scene_cli) and their text

@@ -6,29 +6,17 @@
 # Exit status: non-zero when ThreadSanitizer reports a race or a test fails.
 # Environment: BUILD_DIR (default build-tsan), JOBS (default nproc), QUADPHASE_SKIP_DEPS=1,
 #              QUADPHASE_BOX2D_SOURCE_DIR / QUADPHASE_BOX2D_TARBALL as for scripts/test.sh.
-set -euo pipefail
-cd "$(dirname "${BASH_SOURCE[0]}")/.."
-
-if [[ "${QUADPHASE_SKIP_DEPS:-0}" != 1 ]]; then
-    scripts/install-deps.sh >&2
-fi
-
+source "$(dirname "${BASH_SOURCE[0]}")/lib/build.sh"
+qp_deps
 build_dir=${BUILD_DIR:-build-tsan}
-jobs=${JOBS:-$(nproc 2>/dev/null || echo 2)}
 llvm_lib=/usr/lib/llvm-14/lib
 
-configure_args=(-S . -B "$build_dir"
-    -DCMAKE_BUILD_TYPE=RelWithDebInfo
-    -DCMAKE_CXX_COMPILER=clang++-14
-    "-DCMAKE_CXX_FLAGS=-fsanitize=thread -fno-omit-frame-pointer"
-    "-DCMAKE_EXE_LINKER_FLAGS=-fsanitize=thread -Wl,-rpath,$llvm_lib"
-    -DQUADPHASE_BUILD_BENCH=OFF -DQUADPHASE_INSTALL=OFF)
-[[ -n "${QUADPHASE_BOX2D_SOURCE_DIR:-}" ]] && configure_args+=("-DQUADPHASE_BOX2D_SOURCE_DIR=$QUADPHASE_BOX2D_SOURCE_DIR")
-[[ -n "${QUADPHASE_BOX2D_TARBALL:-}" ]] && configure_args+=("-DQUADPHASE_BOX2D_TARBALL=$QUADPHASE_BOX2D_TARBALL")
-
+qp_configure "$build_dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++-14 \
+    "-DCMAKE_CXX_FLAGS=-fsanitize=thread -fno-omit-frame-pointer" \
+    "-DCMAKE_EXE_LINKER_FLAGS=-fsanitize=thread -Wl,-rpath,$llvm_lib" \
+    -DQUADPHASE_BUILD_BENCH=OFF -DQUADPHASE_INSTALL=OFF
+qp_build "$build_dir" quadphase_core_tests quadphase_parallel_tests
 set -x
-cmake "${configure_args[@]}"
-cmake --build "$build_dir" -j "$jobs" --target quadphase_core_tests quadphase_parallel_tests
 
 # ignore_noninstrumented_modules: libomp itself is not instrumented; archer tells TSan about its synchronisation.
 export TSAN_OPTIONS="ignore_noninstrumented_modules=1 halt_on_error=1 exitcode=66"

@@ -20,46 +20,13 @@
 #   JOBS                        parallel build jobs (default: nproc)
 #   QUADPHASE_BOX2D_SOURCE_DIR  unpacked Box2D 2.4.1 source (default: fetched by CMake)
 #   QUADPHASE_BOX2D_TARBALL     local box2d_2.4.1.orig.tar.gz (default: fetched by CMake)
-set -euo pipefail
-
-cd "$(dirname "${BASH_SOURCE[0]}")/.."
-
-if [[ "${QUADPHASE_SKIP_DEPS:-0}" != 1 ]]; then
-    scripts/install-deps.sh >&2
-fi
-
+source "$(dirname "${BASH_SOURCE[0]}")/lib/build.sh"
+qp_deps
 build_dir=${BUILD_DIR:-build}
-jobs=${JOBS:-$(nproc 2>/dev/null || echo 2)}
 out_dir=${OUT_DIR:-$build_dir/render}
-
-configure_args=(-S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DQUADPHASE_BUILD_EXAMPLES=ON)
-if [[ -n "${QUADPHASE_BOX2D_SOURCE_DIR:-}" ]]; then
-    configure_args+=("-DQUADPHASE_BOX2D_SOURCE_DIR=$QUADPHASE_BOX2D_SOURCE_DIR")
-fi
-if [[ -n "${QUADPHASE_BOX2D_TARBALL:-}" ]]; then
-    configure_args+=("-DQUADPHASE_BOX2D_TARBALL=$QUADPHASE_BOX2D_TARBALL")
-fi
-if ! cmake "${configure_args[@]}" >&2; then
-    echo "render: configuring $build_dir failed (see above)." >&2
-    exit 1
-fi
-if ! cmake --build "$build_dir" -j "$jobs" \
-        --target quadphase-scene quadphase-scene-quadtree quadphase-scene-stock >&2; then
-    echo "render: building quadphase-scene failed (see above)." >&2
-    exit 1
-fi
-
-scene=""
-for candidate in "$build_dir/examples/scene_cli/quadphase-scene" "$build_dir/examples/scene_cli/Release/quadphase-scene"; do
-    if [[ -x "$candidate" ]]; then
-        scene=$candidate
-        break
-    fi
-done
-if [[ -z "$scene" ]]; then
-    echo "render: quadphase-scene not found under $build_dir/examples/scene_cli after the build." >&2
-    exit 1
-fi
+qp_configure "$build_dir" -DCMAKE_BUILD_TYPE=Release -DQUADPHASE_BUILD_EXAMPLES=ON
+qp_build "$build_dir" quadphase-scene quadphase-scene-quadtree quadphase-scene-stock
+scene=$(qp_exe "$build_dir/examples/scene_cli/quadphase-scene")
 
 args=("$@")
 if [[ ${#args[@]} -eq 0 ]]; then

@@ -20,27 +20,18 @@
 # Environment: BUILD_DIR (default build-asan), JOBS (default nproc), QUADPHASE_SKIP_DEPS=1,
 #              QUADPHASE_BOX2D_SOURCE_DIR / QUADPHASE_BOX2D_TARBALL as for scripts/test.sh.
 # Extra arguments are passed to ctest (e.g. -R robustness).
-set -euo pipefail
-cd "$(dirname "${BASH_SOURCE[0]}")/.."
-
-if [[ "${QUADPHASE_SKIP_DEPS:-0}" != 1 ]]; then
-    scripts/install-deps.sh >&2
-fi
-
+source "$(dirname "${BASH_SOURCE[0]}")/lib/build.sh"
+qp_deps
 build_dir=${BUILD_DIR:-build-asan}
-jobs=${JOBS:-$(nproc 2>/dev/null || echo 2)}
 
 sanitizers="-fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=all -fno-omit-frame-pointer"
-configure_args=(-S . -B "$build_dir"
-    -DCMAKE_BUILD_TYPE=RelWithDebInfo
+configure_args=(-DCMAKE_BUILD_TYPE=RelWithDebInfo
     -DCMAKE_CXX_COMPILER=g++
     "-DCMAKE_CXX_FLAGS=$sanitizers"
     "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g"
     "-DCMAKE_EXE_LINKER_FLAGS=$sanitizers"
     -DQUADPHASE_BUILD_BENCH=OFF -DQUADPHASE_BUILD_EXAMPLES=OFF -DQUADPHASE_INSTALL=OFF
     -DQUADPHASE_PACKAGE_TESTS=OFF)
-[[ -n "${QUADPHASE_BOX2D_SOURCE_DIR:-}" ]] && configure_args+=("-DQUADPHASE_BOX2D_SOURCE_DIR=$QUADPHASE_BOX2D_SOURCE_DIR")
-[[ -n "${QUADPHASE_BOX2D_TARBALL:-}" ]] && configure_args+=("-DQUADPHASE_BOX2D_TARBALL=$QUADPHASE_BOX2D_TARBALL")
 
 mkdir -p "$build_dir"
 # Leaks inside system libraries we do not own: fontconfig's font cache (through cairo, in the scene_cli tests'
@@ -51,9 +42,9 @@ export LSAN_OPTIONS="suppressions=$(cd "$build_dir" && pwd)/lsan.supp"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
 export OMP_NUM_THREADS=2
 
+qp_configure "$build_dir" "${configure_args[@]}"
+qp_build "$build_dir"
 set -x
-cmake "${configure_args[@]}"
-cmake --build "$build_dir" -j "$jobs"
-ctest --test-dir "$build_dir" --output-on-failure -j "$jobs" --timeout 1200 "$@"
+ctest --test-dir "$build_dir" --output-on-failure -j "$QP_JOBS" --timeout 1200 "$@"
 set +x
 echo "sanitize: AddressSanitizer + UndefinedBehaviorSanitizer found nothing; every test passed"

@@ -11,24 +11,13 @@
 #              BUILD_DIR (default build-soak), JOBS (default nproc), QUADPHASE_SKIP_DEPS=1,
 #              QUADPHASE_BOX2D_SOURCE_DIR / QUADPHASE_BOX2D_TARBALL as for scripts/test.sh.
 # Extra arguments are passed to qp-soak.
-set -euo pipefail
-cd "$(dirname "${BASH_SOURCE[0]}")/.."
-
-if [[ "${QUADPHASE_SKIP_DEPS:-0}" != 1 ]]; then
-    scripts/install-deps.sh >&2
-fi
-
+source "$(dirname "${BASH_SOURCE[0]}")/lib/build.sh"
+qp_deps
 build_dir=${BUILD_DIR:-build-soak}
-jobs=${JOBS:-$(nproc 2>/dev/null || echo 2)}
 target=qp-soak
 [[ "${VARIANT:-quadphase}" == stock ]] && target=qp-soak-stock
-
-configure_args=(-S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release)
-[[ -n "${QUADPHASE_BOX2D_SOURCE_DIR:-}" ]] && configure_args+=("-DQUADPHASE_BOX2D_SOURCE_DIR=$QUADPHASE_BOX2D_SOURCE_DIR")
-[[ -n "${QUADPHASE_BOX2D_TARBALL:-}" ]] && configure_args+=("-DQUADPHASE_BOX2D_TARBALL=$QUADPHASE_BOX2D_TARBALL")
-
-cmake "${configure_args[@]}" >/dev/null
-cmake --build "$build_dir" -j "$jobs" --target "$target"
+QP_LOG=1 qp_configure "$build_dir" -DCMAKE_BUILD_TYPE=Release
+qp_build "$build_dir" "$target"
 
 args=(--steps "${STEPS:-100000}" --size "${SIZE:-250}" --interval "${INTERVAL:-10000}" --seed "${SEED:-1}")
 [[ "${VALIDATE:-0}" == 1 ]] && args+=(--validate)

@@ -26,13 +26,10 @@
 #   BUILD_DIR                   build directory (default: build-testbed)
 #   JOBS                        parallel build jobs (default: nproc)
 #   QUADPHASE_BOX2D_SOURCE_DIR  unpacked Box2D 2.4.1 source (default: fetched by CMake)
-set -euo pipefail
-
-cd "$(dirname "${BASH_SOURCE[0]}")/.."
+source "$(dirname "${BASH_SOURCE[0]}")/lib/build.sh"
 root=$PWD
 
 build_dir=${BUILD_DIR:-build-testbed}
-jobs=${JOBS:-$(nproc 2>/dev/null || echo 2)}
 out_dir=${OUT_DIR:-$build_dir/testbed-screenshots}
 wait_seconds=${SECONDS_BEFORE_SHOT:-20}
 screen=${SIZE:-1280x800}
@@ -51,18 +48,10 @@ if [[ ! "$wait_seconds" =~ ^[0-9]+$ ]]; then
     exit 2
 fi
 
-if [[ "${QUADPHASE_SKIP_DEPS:-0}" != 1 ]]; then
-    scripts/install-deps.sh >&2
-fi
+qp_deps
 if [[ "${QUADPHASE_SKIP_BUILD:-0}" != 1 ]]; then
-    configure_args=(-S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DQUADPHASE_TESTBED=ON
-                    -DQUADPHASE_BUILD_EXAMPLES=ON)
-    if [[ -n "${QUADPHASE_BOX2D_SOURCE_DIR:-}" ]]; then
-        configure_args+=("-DQUADPHASE_BOX2D_SOURCE_DIR=$QUADPHASE_BOX2D_SOURCE_DIR")
-    fi
-    cmake "${configure_args[@]}" >&2 || { echo "testbed-screenshot: configuring $build_dir failed" >&2; exit 1; }
-    cmake --build "$build_dir" -j "$jobs" --target "$target" >&2 ||
-        { echo "testbed-screenshot: building $target failed" >&2; exit 1; }
+    qp_configure "$build_dir" -DCMAKE_BUILD_TYPE=Release -DQUADPHASE_TESTBED=ON -DQUADPHASE_BUILD_EXAMPLES=ON
+    qp_build "$build_dir" "$target"
 fi
 testbed="$root/$build_dir/examples/testbed/$target"
 [[ "$build_dir" = /* ]] && testbed="$build_dir/examples/testbed/$target"

@@ -20,6 +20,7 @@
 #include "contact_check.h"
 #include "qp_accuracy_build_info.h"
 #include "quadphase_scenes/scenes.h"
+#include "tool_common.h"
 
 #if defined(QUADPHASE_VARIANT_QUADPHASE)
 #include "quadphase/box2d.h"
@@ -85,73 +86,42 @@ void PrintHelp()
                 kBuild, qs::SceneNameList().c_str());
 }
 
-int ParseInt(const std::string& flag, const char* text)
+int ParseInt(const std::string& flag, const std::string& text)
 {
     char* end = nullptr;
-    const long value = std::strtol(text, &end, 10);
-    if (end == text || *end != '\0' || value < -1000000000L || value > 1000000000L)
-    {
+    const long value = std::strtol(text.c_str(), &end, 10);
+    if (end == text.c_str() || *end != '\0' || value < -1000000000L || value > 1000000000L)
         Fail(flag + ": not an integer: '" + text + "'");
-    }
     return static_cast<int>(value);
-}
-
-double ParseDouble(const std::string& flag, const char* text)
-{
-    char* end = nullptr;
-    const double value = std::strtod(text, &end);
-    if (end == text || *end != '\0' || !std::isfinite(value))
-    {
-        Fail(flag + ": not a number: '" + text + "'");
-    }
-    return value;
 }
 
 Options ParseOptions(int argc, char** argv)
 {
-    Options o;
-    for (int i = 1; i < argc; ++i)
+    const qpbench::Args args(argc, argv, {"help"});
+    const std::vector<std::string> problems =
+        args.Problems({"scene", "size", "seed", "seconds", "hz", "vel-iters", "pos-iters", "threads", "depth",
+                       "levels", "check-every", "sample-every", "positions-out", "help"});
+    if (args.Has("help"))
     {
-        const std::string flag = argv[i];
-        if (flag == "--help" || flag == "-h")
-        {
-            PrintHelp();
-            std::exit(0);
-        }
-        if (i + 1 >= argc)
-        {
-            Fail(flag + ": missing value (or unknown option; see --help)");
-        }
-        const char* value = argv[++i];
-        if (flag == "--scene")
-            o.scene = value;
-        else if (flag == "--size")
-            o.size = ParseInt(flag, value);
-        else if (flag == "--seed")
-            o.seed = static_cast<uint32_t>(ParseInt(flag, value));
-        else if (flag == "--seconds")
-            o.seconds = ParseDouble(flag, value);
-        else if (flag == "--hz")
-            o.hz = ParseInt(flag, value);
-        else if (flag == "--vel-iters")
-            o.velocityIterations = ParseInt(flag, value);
-        else if (flag == "--pos-iters")
-            o.positionIterations = ParseInt(flag, value);
-        else if (flag == "--threads")
-            o.threads = ParseInt(flag, value);
-        else if (flag == "--depth")
-            o.depth = value;
-        else if (flag == "--levels")
-            o.levels = value;
-        else if (flag == "--check-every")
-            o.checkEvery = ParseInt(flag, value);
-        else if (flag == "--sample-every")
-            o.sampleEvery = ParseDouble(flag, value);
-        else if (flag == "--positions-out")
-            o.positionsOut = value;
-        else
-            Fail("unknown option '" + flag + "' (see --help)");
+        PrintHelp();
+        std::exit(0);
     }
+    if (!problems.empty())
+        Fail(problems.front() + " (see --help)");
+    Options o;
+    o.scene = args.Get("scene");
+    o.size = int(args.GetInt("size", o.size));
+    o.seed = uint32_t(args.GetInt("seed", o.seed));
+    o.seconds = args.GetDouble("seconds", o.seconds);
+    o.hz = int(args.GetInt("hz", o.hz));
+    o.velocityIterations = int(args.GetInt("vel-iters", o.velocityIterations));
+    o.positionIterations = int(args.GetInt("pos-iters", o.positionIterations));
+    o.threads = int(args.GetInt("threads", o.threads));
+    o.depth = args.Get("depth", o.depth);
+    o.levels = args.Get("levels", o.levels);
+    o.checkEvery = int(args.GetInt("check-every", o.checkEvery));
+    o.sampleEvery = args.GetDouble("sample-every", o.sampleEvery);
+    o.positionsOut = args.Get("positions-out");
     if (o.scene.empty())
         Fail("--scene is required (" + qs::SceneNameList() + ")");
     if (o.seconds <= 0.0)
@@ -187,9 +157,9 @@ struct Relative
             return {true, 0};
         if (rest[0] != '+' && rest[0] != '-')
             Fail(flag + ": expected auto, auto+K, auto-K or a number, got '" + text + "'");
-        return {true, ParseInt(flag, rest.c_str())};
+        return {true, ParseInt(flag, rest)};
     }
-    return {false, ParseInt(flag, text.c_str())};
+    return {false, ParseInt(flag, text)};
 }
 
 struct Geometry
@@ -242,27 +212,6 @@ const b2Body* TopBody(const b2World& world)
             top = b;
     }
     return top;
-}
-
-std::string JsonString(const std::string& s)
-{
-    std::string out = "\"";
-    for (char c : s)
-    {
-        if (c == '"' || c == '\\')
-            out += '\\';
-        out += c;
-    }
-    return out + "\"";
-}
-
-std::string JsonNumber(double v)
-{
-    if (!std::isfinite(v))
-        return "null";
-    char buffer[64];
-    std::snprintf(buffer, sizeof buffer, "%.9g", v);
-    return buffer;
 }
 
 } // namespace
@@ -478,53 +427,47 @@ int main(int argc, char** argv)
     const double simulated = static_cast<double>(steps) / o.hz;
     const b2Vec2 topEnd = top != nullptr ? top->GetPosition() : b2Vec2(0.0f, 0.0f);
 
-    std::string line = "{";
-    auto add = [&line](const char* key, const std::string& value)
-    {
-        if (line.size() > 1)
-            line += ", ";
-        line += JsonString(key) + ": " + value;
-    };
-    add("build", JsonString(kBuild));
-    add("scene", JsonString(qs::SceneName(*id)));
-    add("size", std::to_string(size));
-    add("seed", std::to_string(o.seed));
-    add("hz", std::to_string(o.hz));
-    add("vel_iters", std::to_string(o.velocityIterations));
-    add("pos_iters", std::to_string(o.positionIterations));
-    add("threads", std::to_string(o.threads));
-    add("depth_arg", JsonString(o.depth));
-    add("depth", depthUsed >= 0 ? std::to_string(depthUsed) : std::string("null"));
-    add("auto_depth", autoDepth >= 0 ? std::to_string(autoDepth) : std::string("null"));
-    add("levels_arg", JsonString(o.levels));
-    add("levels", levelsUsed >= 0 ? std::to_string(levelsUsed) : std::string("null"));
-    add("auto_levels", autoLevels >= 0 ? std::to_string(autoLevels) : std::string("null"));
-    add("paper_bounds", boundsText);
-    add("steps", std::to_string(steps));
-    add("simulated_s", JsonNumber(simulated));
-    add("bodies", std::to_string(qs::CountBodies(world)));
-    add("fixtures", std::to_string(qs::CountFixtures(world)));
-    add("step_s", JsonNumber(stepSeconds));
-    add("run_s_per_sim_s", JsonNumber(stepSeconds / simulated));
-    add("check_s", JsonNumber(checkSeconds));
-    add("checks", std::to_string(checks));
-    add("overlapping", std::to_string(overlapping));
-    add("missed", std::to_string(missed));
-    add("missed_new", std::to_string(missedNew));
-    add("missed_static", std::to_string(missedStatic));
-    add("missed_max", std::to_string(missedMax));
-    add("checks_with_miss", std::to_string(checksWithMiss));
-    add("pen_max", JsonNumber(penMax));
-    add("pen_mean", JsonNumber(penPoints > 0 ? penSum / static_cast<double>(penPoints) : 0.0));
-    add("pen_points", std::to_string(penPoints));
-    add("energy_start", JsonNumber(energyStart));
-    add("energy_end", JsonNumber(energyEnd));
-    add("energy_drift", JsonNumber(energyStart > 0.0 ? energyEnd / energyStart - 1.0 : NAN));
-    add("energy_max_dev", JsonNumber(energyStart > 0.0 ? energyMaxDev : NAN));
-    add("top_dx", JsonNumber(top != nullptr ? double(topEnd.x) - double(topStart.x) : NAN));
-    add("top_dy", JsonNumber(top != nullptr ? double(topEnd.y) - double(topStart.y) : NAN));
-    add("cxx_flags", JsonString(QP_ACCURACY_CXX_FLAGS));
-    line += "}";
-    std::printf("%s\n", line.c_str());
+    auto optional = [](int v) { return v >= 0 ? std::to_string(v) : std::string("null"); };
+    qpbench::JsonLine j;
+    j.Str("build", kBuild);
+    j.Str("scene", qs::SceneName(*id));
+    j.Int("size", size);
+    j.Int("seed", o.seed);
+    j.Int("hz", o.hz);
+    j.Int("vel_iters", o.velocityIterations);
+    j.Int("pos_iters", o.positionIterations);
+    j.Int("threads", o.threads);
+    j.Str("depth_arg", o.depth);
+    j.Raw("depth", optional(depthUsed));
+    j.Raw("auto_depth", optional(autoDepth));
+    j.Str("levels_arg", o.levels);
+    j.Raw("levels", optional(levelsUsed));
+    j.Raw("auto_levels", optional(autoLevels));
+    j.Raw("paper_bounds", boundsText);
+    j.Int("steps", steps);
+    j.Num("simulated_s", simulated);
+    j.Int("bodies", qs::CountBodies(world));
+    j.Int("fixtures", qs::CountFixtures(world));
+    j.Num("step_s", stepSeconds);
+    j.Num("run_s_per_sim_s", stepSeconds / simulated);
+    j.Num("check_s", checkSeconds);
+    j.Int("checks", checks);
+    j.Int("overlapping", overlapping);
+    j.Int("missed", missed);
+    j.Int("missed_new", missedNew);
+    j.Int("missed_static", missedStatic);
+    j.Int("missed_max", missedMax);
+    j.Int("checks_with_miss", checksWithMiss);
+    j.Num("pen_max", penMax);
+    j.Num("pen_mean", penPoints > 0 ? penSum / static_cast<double>(penPoints) : 0.0);
+    j.Int("pen_points", penPoints);
+    j.Num("energy_start", energyStart);
+    j.Num("energy_end", energyEnd);
+    j.Num("energy_drift", energyStart > 0.0 ? energyEnd / energyStart - 1.0 : NAN);
+    j.Num("energy_max_dev", energyStart > 0.0 ? energyMaxDev : NAN);
+    j.Num("top_dx", top != nullptr ? double(topEnd.x) - double(topStart.x) : NAN);
+    j.Num("top_dy", top != nullptr ? double(topEnd.y) - double(topStart.y) : NAN);
+    j.Str("cxx_flags", QP_ACCURACY_CXX_FLAGS);
+    std::printf("%s\n", j.Text().c_str());
     return 0;
 }

@@ -10,19 +10,19 @@ thread timing: the report says when rounds disagreed).
 """
 
 import argparse
-import csv
 import datetime
 import json
 import math
 import os
-import platform
 import random
-import subprocess
 import sys
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, os.path.dirname(HERE))
+from qpbench import machine, plot, report, run  # noqa: E402
+from qpbench.report import sig as fmt, table  # noqa: E402
 
 # (scene, size, simulated seconds). Modest sizes: the whole sweep (2 rounds) took about 25 minutes on 2 busy cores.
 SCENES = [
@@ -99,51 +99,12 @@ def run_key(scene, bp, step):
     return "%s|%s|%d|%d|%d" % ((scene, bp) + tuple(step))
 
 
-def machine_info():
-    info = {}
-    model = ""
-    try:
-        with open("/proc/cpuinfo") as f:
-            for line in f:
-                if line.startswith("model name"):
-                    model = line.split(":", 1)[1].strip()
-                    break
-    except OSError:
-        pass
-    info["cpu"] = model or platform.processor() or "unknown"
-    info["cores"] = os.cpu_count()
-    try:
-        info["compiler"] = subprocess.run(["c++", "--version"], capture_output=True, text=True).stdout.splitlines()[0]
-    except (OSError, IndexError):
-        info["compiler"] = "unknown"
-    try:
-        info["commit"] = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True,
-                                        text=True).stdout.strip()
-        dirty = subprocess.run(["git", "-C", ROOT, "status", "--porcelain", "--untracked-files=no"],
-                               capture_output=True, text=True).stdout.strip()
-        if dirty:
-            info["commit"] += " (with uncommitted changes in the tree)"
-    except OSError:
-        info["commit"] = "unknown"
-    info["kernel"] = platform.release()
-    return info
-
-
-def run_one(tools, scene, size, seconds, bp_build, bp_args, step, positions_out=None, passive=False):
+def run_one(runner, scene, size, seconds, bp_build, bp_args, step, positions_out=None, passive=False):
     hz, vi, pi = step
-    cmd = [os.path.join(tools, "qp-accuracy-" + bp_build), "--scene", scene, "--size", str(size), "--seconds",
-           str(seconds), "--hz", str(hz), "--vel-iters", str(vi), "--pos-iters", str(pi)] + list(bp_args)
-    if positions_out:
-        cmd += ["--positions-out", positions_out]
-    env = dict(os.environ)
-    env.pop("OMP_WAIT_POLICY", None)
-    env.pop("GOMP_SPINCOUNT", None)
-    if passive:
-        env["OMP_WAIT_POLICY"] = "passive"
-    proc = subprocess.run(cmd, capture_output=True, text=True, env=env)
-    if proc.returncode != 0:
-        raise RuntimeError("%s failed (%d): %s" % (" ".join(cmd), proc.returncode, proc.stderr.strip()))
-    return json.loads(proc.stdout.strip().splitlines()[-1]), ("OMP_WAIT_POLICY=passive " if passive else "") + " ".join(cmd)
+    argv = ["--scene", scene, "--size", size, "--seconds", seconds, "--hz", hz, "--vel-iters", vi, "--pos-iters", pi]
+    argv += list(bp_args) + (["--positions-out", positions_out] if positions_out else [])
+    env = {"OMP_WAIT_POLICY": "passive" if passive else None, "GOMP_SPINCOUNT": None}
+    return json.loads(runner.run("qp-accuracy-" + bp_build, *argv, env=env)[1].strip().splitlines()[-1])
 
 
 def read_positions(path):
@@ -187,12 +148,10 @@ def plan(scenes):
     return runs
 
 
-def sweep(args, tools, workdir, scenes):
+def sweep(args, runner, workdir, scenes):
     runs = plan(scenes)
     posdir = os.path.join(workdir, "positions")
     os.makedirs(posdir, exist_ok=True)
-    jsonl = os.path.join(workdir, "accuracy.jsonl")
-    log = open(os.path.join(workdir, "accuracy.log"), "w")
     results = {}
     loads = []
     rng = random.Random(args.seed)
@@ -204,13 +163,12 @@ def sweep(args, tools, workdir, scenes):
         if scene not in NON_CHAOTIC:
             continue
         ref_path = os.path.join(posdir, "%s.reference.txt" % scene)
-        rec, cmd = run_one(tools, scene, size, seconds, "stock", [], REFERENCE_STEP, ref_path)
-        log.write(cmd + "\n" + json.dumps(rec) + "\n")
+        rec = run_one(runner, scene, size, seconds, "stock", [], REFERENCE_STEP, ref_path)
         references[scene] = (ref_path, rec)
         print("  reference %-9s %s: %.3f s run time per simulated s" % (scene, step_label(REFERENCE_STEP),
                                                                         rec["run_s_per_sim_s"]), flush=True)
 
-    with open(jsonl, "w") as out:
+    with open(runner.jsonl, "w") as out:
         for rnd in range(args.rounds):
             order = list(runs)
             rng.shuffle(order)
@@ -221,12 +179,11 @@ def sweep(args, tools, workdir, scenes):
                 pos = None
                 if rnd == 0 and r["scene"] in references:
                     pos = os.path.join(posdir, key.replace("|", "_") + ".txt")
-                rec, cmd = run_one(tools, r["scene"], r["size"], r["seconds"], r["build"], r["args"], r["step"], pos,
-                                   r["bp"].endswith("-passive"))
+                rec = run_one(runner, r["scene"], r["size"], r["seconds"], r["build"], r["args"], r["step"], pos,
+                              r["bp"].endswith("-passive"))
                 rec["round"] = rnd
                 rec["config"] = r["bp"]
                 out.write(json.dumps(rec) + "\n")
-                log.write(cmd + "\n")
                 entry = results.setdefault(key, dict(run=r, records=[], positions=None))
                 entry["records"].append(rec)
                 if pos:
@@ -237,8 +194,6 @@ def sweep(args, tools, workdir, scenes):
             loads.append((load_before, os.getloadavg()[0], time.time() - t0))
             print("round %d done in %.0f s (load average %.2f -> %.2f)" % (rnd + 1, time.time() - t0, load_before,
                                                                            os.getloadavg()[0]), flush=True)
-    log.close()
-
     rows = []
     for key, entry in results.items():
         r = entry["run"]
@@ -280,19 +235,6 @@ def sweep(args, tools, workdir, scenes):
     return rows, meta
 
 
-def write_csv(rows, path):
-    keys = []
-    for r in rows:
-        for k in r:
-            if k not in keys:
-                keys.append(k)
-    with open(path, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=keys)
-        w.writeheader()
-        for r in rows:
-            w.writerow(r)
-
-
 # --------------------------------------------------------------------------------------------------------------
 # Plots
 
@@ -331,10 +273,7 @@ def pareto(points):
     return front
 
 
-def plot_scene(scene, rows, path):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+def plot_scene(plt, scene, rows, path):
     from matplotlib.lines import Line2D
 
     measures = measures_for(scene)
@@ -393,28 +332,11 @@ def plot_scene(scene, rows, path):
         ax.axis("off")
     size = srows[0]["size"] if srows else 0
     fig.suptitle("%s (size %d): error against run time, log-log (lower left is better)" % (scene, size), fontsize=12)
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
+    plot.save(plt, fig, path)
 
 
 # --------------------------------------------------------------------------------------------------------------
 # Report
-
-
-def fmt(v, digits=3):
-    if v is None or (isinstance(v, float) and math.isnan(v)):
-        return "–"
-    if isinstance(v, int):
-        return str(v)
-    if v == 0:
-        return "0"
-    a = abs(v)
-    if a >= 1000:
-        return "%.0f" % v
-    if a >= 1:
-        return ("%." + str(max(0, digits - 1 - int(math.log10(a)))) + "f") % v
-    return "%.*g" % (digits, v)
 
 
 def config_text(r):
@@ -633,14 +555,12 @@ def main():
                 os.path.getmtime(os.path.join(workdir, "accuracy.jsonl"))).strftime("%Y-%m-%d %H:%M")
         scenes = [s for s in SCENES if any(r["scene"] == s[0] for r in rows)]
     else:
-        for b in ("stock", "quadphase", "paper"):
-            exe = os.path.join(tools, "qp-accuracy-" + b)
-            if not os.access(exe, os.X_OK):
-                sys.exit("accuracy.py: %s not found; build the qp-accuracy target first (bench/accuracy/run.sh)" % exe)
-        info = machine_info()
+        runner = run.Runner("accuracy.py", tools, workdir, "accuracy",
+                            tools=["qp-accuracy-" + b for b in ("stock", "quadphase", "paper")])
+        info = machine.describe(args.build_dir)
         print("%s, %s cores; %s; commit %s" % (info["cpu"], info["cores"], info["compiler"], info["commit"]))
         print("%d runs per round, %d round(s)" % (len(plan(scenes)), args.rounds), flush=True)
-        rows, meta = sweep(args, tools, workdir, scenes)
+        rows, meta = sweep(args, runner, workdir, scenes)
         if args.merge and os.path.exists(state):
             # Earlier results of the other scenes stay; the report lists every sweep's load and duration.
             with open(state) as f:
@@ -656,11 +576,12 @@ def main():
             scenes = [s for s in SCENES if any(r["scene"] == s[0] for r in rows)]
         with open(state, "w") as f:
             json.dump(dict(rows=rows, meta=meta, info=info), f)
-        write_csv(rows, os.path.join(workdir, "accuracy.csv"))
+        report.write_csv(os.path.join(workdir, "accuracy.csv"), rows)
 
     os.makedirs(args.png_dir, exist_ok=True)
-    for scene, size, seconds in scenes:
-        plot_scene(scene, rows, os.path.join(args.png_dir, scene + ".png"))
+    plt = plot.pyplot("accuracy.py")
+    for scene, size, seconds in scenes if plt else []:
+        plot_scene(plt, scene, rows, os.path.join(args.png_dir, scene + ".png"))
     png_rel = os.path.relpath(args.png_dir, os.path.dirname(os.path.abspath(args.md)))
     write_report(rows, meta, info, scenes, args.md, png_rel, os.path.join(HERE, "reading.md"), args.command)
     print("wrote %s, %s/*.png, %s/accuracy.csv" % (args.md, args.png_dir, workdir))

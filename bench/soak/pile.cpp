@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "box2d/b2_broad_phase.h"
+#include "tool_common.h"
 
 namespace
 {
@@ -49,39 +50,29 @@ const char* Variant()
 
 int main(int argc, char** argv)
 {
-    std::vector<int> counts = {1000, 2000, 4000, 8000};
-    int rounds = 7;
-    for (int i = 1; i < argc; ++i)
+    const qpbench::Args args(argc, argv, {});
+    const std::vector<std::string> problems = args.Problems({"counts", "rounds"});
+    if (!problems.empty())
     {
-        const std::string a = argv[i];
-        if (a == "--counts" && i + 1 < argc)
+        Usage(problems.front().c_str());
+    }
+    std::vector<int> counts = {1000, 2000, 4000, 8000};
+    if (args.Has("counts"))
+    {
+        counts.clear();
+        std::stringstream list(args.Get("counts"));
+        std::string item;
+        while (std::getline(list, item, ','))
         {
-            counts.clear();
-            std::stringstream list(argv[++i]);
-            std::string item;
-            while (std::getline(list, item, ','))
+            const int n = std::atoi(item.c_str());
+            if (n < 2 || n > 100000)
             {
-                const int n = std::atoi(item.c_str());
-                if (n < 2 || n > 100000)
-                {
-                    Usage("counts must be in [2, 100000]");
-                }
-                counts.push_back(n);
+                Usage("counts must be in [2, 100000]");
             }
-        }
-        else if (a == "--rounds" && i + 1 < argc)
-        {
-            rounds = std::atoi(argv[++i]);
-            if (rounds < 1 || rounds > 1000)
-            {
-                Usage("--rounds must be in [1, 1000]");
-            }
-        }
-        else
-        {
-            Usage(("unknown argument " + a).c_str());
+            counts.push_back(n);
         }
     }
+    const int rounds = int(args.GetIntIn("rounds", 7, 1, 1000));
 
     std::printf("qp-pile (%s build of b2BroadPhase): %d rounds per count\n", Variant(), rounds);
     std::printf("%8s %12s %12s %12s\n", "proxies", "pairs/round", "median_ms", "ns/pair");

@@ -19,6 +19,7 @@
 
 #include "quadphase_scenes/scenes.h"
 #include "rss.h"
+#include "tool_common.h"
 #if defined(QUADPHASE_VARIANT_QUADPHASE)
 #include "quadphase/box2d.h"
 #endif
@@ -47,50 +48,22 @@ struct Options
     std::exit(2);
 }
 
-long ParseLong(const char* text, const char* name, long lo, long hi)
-{
-    char* end = nullptr;
-    const long v = std::strtol(text, &end, 10);
-    if (end == text || *end != '\0' || v < lo || v > hi)
-    {
-        Usage((std::string(name) + " must be an integer in [" + std::to_string(lo) + ", " +
-               std::to_string(hi) + "]")
-                  .c_str());
-    }
-    return v;
-}
-
 Options Parse(int argc, char** argv)
 {
-    Options o;
-    for (int i = 1; i < argc; ++i)
+    const qpbench::Args args(argc, argv, {"validate", "help"});
+    const std::vector<std::string> problems =
+        args.Problems({"steps", "size", "seed", "interval", "max-growth", "validate", "help"});
+    if (args.Has("help") || !problems.empty())
     {
-        const std::string a = argv[i];
-        auto value = [&]() -> const char*
-        {
-            if (i + 1 >= argc)
-            {
-                Usage((a + " needs a value").c_str());
-            }
-            return argv[++i];
-        };
-        if (a == "--steps")
-            o.steps = ParseLong(value(), "--steps", 1, 100000000);
-        else if (a == "--size")
-            o.size = int(ParseLong(value(), "--size", 20, 1000000));
-        else if (a == "--seed")
-            o.seed = uint32_t(ParseLong(value(), "--seed", 0, 2147483647));
-        else if (a == "--interval")
-            o.interval = ParseLong(value(), "--interval", 1, 100000000);
-        else if (a == "--max-growth")
-            o.maxGrowth = double(ParseLong(value(), "--max-growth", 0, 10000));
-        else if (a == "--validate")
-            o.validate = true;
-        else if (a == "--help" || a == "-h")
-            Usage("help");
-        else
-            Usage(("unknown argument " + a).c_str());
+        Usage(problems.empty() ? "help" : problems.front().c_str());
     }
+    Options o;
+    o.steps = args.GetIntIn("steps", o.steps, 1, 100000000);
+    o.size = int(args.GetIntIn("size", o.size, 20, 1000000));
+    o.seed = uint32_t(args.GetIntIn("seed", o.seed, 0, 2147483647));
+    o.interval = args.GetIntIn("interval", o.interval, 1, 100000000);
+    o.maxGrowth = double(args.GetIntIn("max-growth", long(o.maxGrowth), 0, 10000));
+    o.validate = args.Has("validate");
     return o;
 }
 

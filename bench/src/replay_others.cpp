@@ -556,35 +556,7 @@ int RunEngine(const LoadedTrace& loaded, const char* name, Make make, int repeat
             .Int("compared_file", reference.empty() ? 0 : 1);
         AppendLine(jsonPath, j.Text());
     }
-    std::vector<double> ms;
-    for (int r = 0; r < repeats; ++r)
-    {
-        const int64_t heap0 = HeapBytes();
-        std::unique_ptr<Engine> engine = make();
-        const RunResult result = Replay(loaded, *engine);
-        const int64_t heap = HeapBytes() - heap0;
-        JsonLine j;
-        baseJson(j, "run");
-        j.Int("rep", r)
-            .Int("heap_bytes", heap)
-            .Int("proxies_end", engine->ProxyCount())
-            .Num("bytes_per_proxy", double(heap) / std::max(1, engine->ProxyCount()));
-        AddRun(j, result);
-        AppendLine(jsonPath, j.Text());
-        double total = 0, proxies = 0;
-        for (const StepSample& s : result.steps)
-        {
-            total += double(s.ns);
-            proxies += s.proxies;
-        }
-        ms.push_back(total / loaded.steps.steps * 1e-6);
-        std::printf("%s rep %d: %.3f ms/step, %.1f ns/proxy/step, %.0f bytes/proxy\n", name, r, ms.back(),
-                    total / std::max(1.0, proxies), double(heap) / std::max(1, engine->ProxyCount()));
-    }
-    if (!ms.empty())
-    {
-        std::printf("%s: median %.3f ms/step\n", name, Median(ms));
-    }
+    TimedRuns(loaded, name, repeats, jsonPath, make, baseJson, [](JsonLine&, const Engine&) {});
     return mismatches != 0 ? 3 : 0;
 }
 

@@ -11,7 +11,6 @@
 #include <vector>
 
 #include "box2d/b2_broad_phase.h"
-#include "heap_bytes.h"
 #include "replay_common.h"
 
 namespace
@@ -112,32 +111,8 @@ int main(int argc, char** argv)
         AppendLine(jsonPath, j.Text());
     }
 
-    const int repeats = int(args.GetInt("repeats", 5));
-    std::vector<double> ms;
-    for (int r = 0; r < repeats; ++r)
-    {
-        const int64_t heap0 = HeapBytes();
-        auto engine = std::make_unique<StockEngine>();
-        const RunResult result = Replay(loaded, *engine);
-        const int64_t heap = HeapBytes() - heap0; // what the engine holds after the whole trace (heap_bytes.h)
-        JsonLine j;
-        baseJson(j, "run");
-        j.Int("rep", r).Int("tree_height", engine->Get().GetTreeHeight()).Int("heap_bytes", heap)
-            .Num("bytes_per_proxy", double(heap) / std::max(1, engine->ProxyCount()));
-        AddRun(j, result);
-        AppendLine(jsonPath, j.Text());
-        double total = 0, proxies = 0;
-        for (const StepSample& s : result.steps)
-        {
-            total += double(s.ns);
-            proxies += s.proxies;
-        }
-        ms.push_back(total / index.steps * 1e-6);
-        std::printf("stock rep %d: %.3f ms/step, %.1f ns/proxy/step\n", r, ms.back(), total / std::max(1.0, proxies));
-    }
-    if (!ms.empty())
-    {
-        std::printf("stock b2BroadPhase: median %.3f ms/step\n", Median(ms));
-    }
+    TimedRuns(loaded, "stock b2BroadPhase", int(args.GetInt("repeats", 5)), jsonPath,
+              [] { return std::make_unique<StockEngine>(); }, baseJson,
+              [](JsonLine& j, const StockEngine& e) { j.Int("tree_height", e.Get().GetTreeHeight()); });
     return 0;
 }

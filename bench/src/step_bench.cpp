@@ -3,16 +3,26 @@
 // (QUADPHASE_VARIANT_QUADPHASE); bench/bench.py runs the two alternately, in random order, within one
 // invocation, and takes medians over repeats.
 //
-//   qp-step-<variant> --scene NAME --size N [--seed S] [--warmup W] [--steps S] [--threads T] [--json FILE]
-//                     [--label TEXT]      (qp-step-<variant> --list prints the scene names)
+//   qp-step-<variant> --scene NAME --size N [--seed S] [--warmup W] [--steps S] [--threads T|default]
+//                     [--ccd scene|on|off] [--json FILE] [--label TEXT]   (--list prints the scene names)
 //
 // Builds the scene, steps it W times untimed (warm-up), then S timed steps, and appends one JSON line with,
 // per timed step, the median and the mean of Box2D's own b2Profile fields (step, collide, solve, broadphase,
 // solveTOI; milliseconds), the mean contact count, the new pairs per step that reached Box2D's contact filter
 // (the same count in both builds), the process's peak resident memory (VmHWM) and, for the quadtree build,
 // the quadtree's pairs reported, FindPairs time per step (Stats::pairSeconds), heap bytes per proxy
-// (Stats::memoryBytes) and threads. --threads sets quadphase::Config::threads (0: OpenMP's default); the stock
-// build accepts only 1.
+// (Stats::memoryBytes) and threads. --threads sets quadphase::Config::threads (0: OpenMP's default);
+// "default" leaves the Config as the adapter made it (Box2D's defaults: the thread count follows
+// OMP_NUM_THREADS); the stock build accepts 1 or default. --ccd sets b2World::SetContinuousPhysics (default
+// "scene": as the scene built it; every scene leaves Box2D's default, on); the JSON line says which.
+//
+// Phases (of the timed steps, from the world's state after each step, untimed): with D dynamic bodies,
+// "falling" while fewer than 1% of them touch a static body (nothing has landed yet: in rain, until the
+// bottom row of the spawn grid reaches the floor), "resting" once fewer than 5% are awake and faster than 0.5
+// m/s, "piling" in between. A step's phase never goes back (falling, piling, resting in that order), so each
+// phase is one range of steps; the line gives each phase's first step, step count and the medians of
+// b2Profile step and broadphase over its steps. The builds create new contacts in different orders (equally
+// valid), so their simulations, and their phases' ranges, may drift apart.
 //
 // b2Profile::broadphase is the time b2World::Solve spends after the solver synchronising fixtures (MoveProxy
 // of every awake body's proxies) and in FindNewContacts (UpdatePairs, its AddPair callbacks creating
@@ -28,17 +38,9 @@
 
 #include "box2d/box2d.h"
 #include "quadphase_scenes/scenes.h"
-#include "replay_common.h"
+#include "tool_common.h"
 
-#if QUADPHASE_VARIANT_QUADPHASE
-#include "quadphase/box2d.h"
-constexpr const char* kVariant = "quadtree";
-#elif QUADPHASE_VARIANT_STOCK
-constexpr const char* kVariant = "stock";
-#else
-#error                                                                                                       \
-    "compile with QUADPHASE_VARIANT_QUADPHASE=1 or QUADPHASE_VARIANT_STOCK=1 (quadphase_link_box2d_variant)"
-#endif
+#include "box2d_variant.h"
 
 namespace
 {
@@ -56,21 +58,6 @@ public:
     int64_t calls = 0;
 };
 
-/// Peak resident set size of this process in bytes (VmHWM of /proc/self/status); 0 when unknown.
-int64_t PeakRss()
-{
-    std::ifstream in("/proc/self/status");
-    std::string line;
-    while (std::getline(in, line))
-    {
-        if (line.rfind("VmHWM:", 0) == 0)
-        {
-            return std::atoll(line.c_str() + 6) * 1024;
-        }
-    }
-    return 0;
-}
-
 double Mean(const std::vector<double>& v)
 {
     double s = 0.0;
@@ -81,6 +68,46 @@ double Mean(const std::vector<double>& v)
     return v.empty() ? 0.0 : s / double(v.size());
 }
 
+enum Phase
+{
+    Falling,
+    Piling,
+    Resting,
+    PhaseCount
+};
+constexpr const char* kPhaseName[PhaseCount] = {"falling", "piling", "resting"};
+
+/// The phase the world is in after a step (see the file comment); `previous` keeps it from going back.
+Phase Classify(const b2World& world, Phase previous)
+{
+    int dynamic = 0, landed = 0, moving = 0;
+    for (const b2Body* b = world.GetBodyList(); b != nullptr; b = b->GetNext())
+    {
+        if (b->GetType() != b2_dynamicBody)
+        {
+            continue;
+        }
+        ++dynamic;
+        moving += b->IsAwake() && b->GetLinearVelocity().LengthSquared() > 0.25f ? 1 : 0;
+        for (const b2ContactEdge* e = b->GetContactList(); e != nullptr; e = e->next)
+        {
+            if (e->contact->IsTouching() && e->other->GetType() == b2_staticBody)
+            {
+                ++landed;
+                break;
+            }
+        }
+    }
+    const Phase p = 100 * landed < dynamic ? Falling : (20 * moving < dynamic ? Resting : Piling);
+    return std::max(p, previous);
+}
+
+struct PhaseSamples
+{
+    int first = -1;
+    std::vector<double> step, broadphase;
+};
+
 } // namespace
 
 int main(int argc, char** argv)
@@ -88,7 +115,7 @@ int main(int argc, char** argv)
     namespace scenes = quadphase::scenes;
     const Args args(argc, argv, {"help", "list"});
     const std::vector<std::string> problems = args.Problems(
-        {"scene", "size", "seed", "warmup", "steps", "threads", "json", "label", "help", "list"});
+        {"scene", "size", "seed", "warmup", "steps", "threads", "ccd", "json", "label", "help", "list"});
     if (args.Has("list"))
     {
         for (const scenes::SceneInfo& info : scenes::AllScenes())
@@ -97,18 +124,22 @@ int main(int argc, char** argv)
         }
         return 0;
     }
-    if (args.Has("help") || !problems.empty() || !args.Has("scene") || !args.Has("size"))
+    const std::string ccd = args.Get("ccd", "scene");
+    const std::string threads = args.Get("threads", "1");
+    const bool badCcd = ccd != "scene" && ccd != "on" && ccd != "off";
+    if (args.Has("help") || !problems.empty() || !args.Has("scene") || !args.Has("size") || badCcd)
     {
         for (const std::string& p : problems)
         {
             std::fprintf(stderr, "qp-step-%s: %s\n", kVariant, p.c_str());
         }
-        std::fprintf(
-            stderr,
-            "usage: qp-step-%s --scene NAME --size N [--seed S] [--warmup W] [--steps S] [--threads T]\n"
-            "       [--json FILE] [--label TEXT]     (--list: scene names and size ranges)\n"
-            "scenes: %s\n",
-            kVariant, scenes::SceneNameList().c_str());
+        std::fprintf(stderr,
+                     "usage: qp-step-%s --scene NAME --size N [--seed S] [--warmup W] [--steps S] [--threads "
+                     "T|default]\n"
+                     "       [--ccd scene|on|off] [--json FILE] [--label TEXT]     (--list: scene names and "
+                     "size ranges)\n"
+                     "scenes: %s\n",
+                     kVariant, scenes::SceneNameList().c_str());
         return args.Has("help") ? 0 : 2;
     }
     const auto sceneId = scenes::ParseSceneName(args.Get("scene"));
@@ -122,19 +153,11 @@ int main(int argc, char** argv)
     const uint32_t seed = uint32_t(args.GetInt("seed", 1));
     const int warmup = int(args.GetInt("warmup", 30));
     const int steps = int(args.GetInt("steps", 60));
-    const int threads = int(args.GetInt("threads", 1));
     if (warmup < 0 || steps <= 0)
     {
         std::fprintf(stderr, "qp-step-%s: --warmup must be >= 0 and --steps > 0\n", kVariant);
         return 2;
     }
-#if QUADPHASE_VARIANT_STOCK
-    if (threads != 1)
-    {
-        std::fprintf(stderr, "qp-step-stock: stock Box2D is single-threaded (--threads 1)\n");
-        return 2;
-    }
-#endif
 
     CountingFilter filter; // outlives the world
     scenes::Scene scene;
@@ -149,21 +172,27 @@ int main(int argc, char** argv)
     }
     b2World& world = *scene.world;
     world.SetContactFilter(&filter);
-#if QUADPHASE_VARIANT_QUADPHASE
-    quadphase::Config config = quadphase::GetConfig(world);
-    config.threads = threads;
-    quadphase::Configure(world, config);
-#endif
+    if (ccd != "scene")
+    {
+        world.SetContinuousPhysics(ccd == "on");
+    }
+    if (!ApplyThreads(world, threads))
+    {
+        return 2;
+    }
 
+    Phase phase = Falling;
     for (int s = 0; s < warmup; ++s)
     {
         scenes::StepScene(scene);
+        phase = Classify(world, phase);
     }
 #if QUADPHASE_VARIANT_QUADPHASE
     quadphase::ResetCounters(world);
 #endif
     const int64_t filtered0 = filter.calls;
     std::vector<double> step, collide, solve, broadphase, toi;
+    PhaseSamples phases[PhaseCount];
     double contacts = 0.0;
     const int64_t t0 = NowNs();
     for (int s = 0; s < steps; ++s)
@@ -176,6 +205,11 @@ int main(int argc, char** argv)
         broadphase.push_back(p.broadphase);
         toi.push_back(p.solveTOI);
         contacts += world.GetContactCount();
+        phase = Classify(world, phase); // outside b2Profile (wall_s includes it)
+        PhaseSamples& ph = phases[phase];
+        ph.first = ph.first < 0 ? warmup + s : ph.first;
+        ph.step.push_back(p.step);
+        ph.broadphase.push_back(p.broadphase);
     }
     const double wall = double(NowNs() - t0) * 1e-9;
 
@@ -188,7 +222,10 @@ int main(int argc, char** argv)
         .Int("seed", seed)
         .Int("warmup", warmup)
         .Int("steps", steps)
-        .Int("threads", threads)
+        .Int("threads", threads == "default" ? 0 : std::atoi(threads.c_str()))
+        .Str("threads_arg", threads)
+        .Int("omp_num_threads", OmpNumThreadsEnv())
+        .Int("continuous", world.GetContinuousPhysics() ? 1 : 0)
         .Int("bodies", scenes::CountBodies(world))
         .Int("fixtures", scenes::CountFixtures(world))
         .Int("proxies", world.GetProxyCount())
@@ -206,10 +243,20 @@ int main(int argc, char** argv)
         .Num("new_pairs_per_step", double(filter.calls - filtered0) / steps)
         .Num("wall_s", wall)
         .Int("peak_rss_bytes", PeakRss());
+    for (int k = 0; k < PhaseCount; ++k)
+    {
+        const std::string name = kPhaseName[k];
+        j.Int((name + "_first").c_str(), phases[k].first)
+            .Int((name + "_steps").c_str(), int64_t(phases[k].step.size()))
+            .Num((name + "_step_ms").c_str(), Median(phases[k].step))
+            .Num((name + "_broadphase_ms").c_str(), Median(phases[k].broadphase));
+    }
 #if QUADPHASE_VARIANT_QUADPHASE
     const quadphase::Stats st = quadphase::GetStats(world);
     j.Num("pairs_reported_per_step", double(st.pairsReported) / steps)
         .Int("qt_depth", st.depth)
+        .Num("qt_parallel_calls_per_step", double(st.parallelCalls) / steps)
+        .Num("qt_serial_by_choice_per_step", double(st.serialByChoice) / steps)
         .Num("qt_find_ms_per_step", 1000.0 * st.pairSeconds / steps)
         .Int("bp_bytes", st.memoryBytes)
         .Num("bp_bytes_per_proxy", double(st.memoryBytes) / std::max(1, st.proxyCount));

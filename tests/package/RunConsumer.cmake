@@ -63,21 +63,32 @@ if(MODE STREQUAL "find_package")
     if(NOT config_files)
         message(FATAL_ERROR "[${MODE}] install did not produce quadphaseConfig.cmake under ${prefix}")
     endif()
-    foreach(f include/quadphase-box2d/box2d/box2d.h include/quadphase-box2d/box2d/b2_broad_phase.h
-              include/quadphase-box2d-stock/box2d/b2_broad_phase.h)
+    foreach(f include/box2d/box2d.h include/box2d/b2_broad_phase.h include/quadphase/box2d.h
+              include/quadphase-box2d-stock/box2d/b2_broad_phase.h
+              lib/libbox2d.so.2.4.1 lib/libbox2d.so.2 lib/libbox2d.so lib/libbox2d.a
+              lib/pkgconfig/box2d.pc lib/cmake/box2d/box2dConfig.cmake lib/cmake/box2d/box2dConfigVersion.cmake)
         if(NOT EXISTS "${prefix}/${f}")
             message(FATAL_ERROR "[${MODE}] install is missing ${prefix}/${f}")
         endif()
     endforeach()
-    # The installed adapter header must be ours, not Box2D's.
-    file(SHA256 "${prefix}/include/quadphase-box2d/box2d/b2_broad_phase.h" ours)
+    # The installed b2_broad_phase.h must be ours, not Box2D's.
+    file(SHA256 "${prefix}/include/box2d/b2_broad_phase.h" ours)
     file(SHA256 "${QUADPHASE_ROOT}/plugin/box2d/include/box2d/b2_broad_phase.h" expected)
     if(NOT ours STREQUAL expected)
-        message(FATAL_ERROR "[${MODE}] installed include/quadphase-box2d/box2d/b2_broad_phase.h "
+        message(FATAL_ERROR "[${MODE}] installed include/box2d/b2_broad_phase.h "
                             "is not plugin/box2d/include/box2d/b2_broad_phase.h")
     endif()
+    # The stock component: the same Box2D names for stock Box2D, in its own prefix.
+    set(stock_prefix "${WORK_DIR}/prefix-stock")
+    run("install stock" COMMAND "${CMAKE_COMMAND}" --install "${QUADPHASE_BUILD_DIR}" --config "${CONFIG}"
+        --prefix "${stock_prefix}" --component box2d_stock)
+    file(SHA256 "${stock_prefix}/include/box2d/b2_broad_phase.h" stock_header)
+    file(SHA256 "${BOX2D_SRC}/include/box2d/b2_broad_phase.h" pristine)
+    if(NOT stock_header STREQUAL pristine)
+        message(FATAL_ERROR "[${MODE}] the box2d_stock component's b2_broad_phase.h is not Box2D's")
+    endif()
     list(APPEND configure_args "-DCMAKE_PREFIX_PATH=${prefix}")
-    set(programs consumer_quadphase consumer_stock)
+    set(programs consumer_quadphase consumer_stock consumer_box2d_package)
 elseif(MODE STREQUAL "add_subdirectory")
     list(APPEND configure_args "-DQUADPHASE_ROOT=${QUADPHASE_ROOT}")
     if(BOX2D_SRC)
@@ -105,5 +116,40 @@ foreach(program IN LISTS programs)
     endif()
     run("run ${program}" COMMAND "${exe}")
 endforeach()
+
+# pkg-config box2d, as Debian's caveexpress finds Box2D: C++11, shared and static, on both prefixes.
+if(MODE STREQUAL "find_package")
+    find_program(PKG_CONFIG NAMES pkg-config pkgconf REQUIRED)
+    foreach(flavour IN ITEMS quadphase stock)
+        if(flavour STREQUAL "quadphase")
+            set(p "${prefix}")
+        else()
+            set(p "${stock_prefix}")
+        endif()
+        foreach(linkage IN ITEMS shared static)
+            set(static_arg "")
+            if(linkage STREQUAL "static")
+                set(static_arg --static)
+            endif()
+            execute_process(COMMAND "${CMAKE_COMMAND}" -E env "PKG_CONFIG_PATH=${p}/lib/pkgconfig"
+                "${PKG_CONFIG}" --cflags --libs ${static_arg} box2d
+                OUTPUT_VARIABLE flags OUTPUT_STRIP_TRAILING_WHITESPACE RESULT_VARIABLE rc)
+            if(NOT rc EQUAL 0)
+                message(FATAL_ERROR "[${MODE}] pkg-config box2d failed on ${p}")
+            endif()
+            separate_arguments(flags UNIX_COMMAND "${flags}")
+            if(linkage STREQUAL "static")
+                list(TRANSFORM flags REPLACE "^-lbox2d$" "-l:libbox2d.a")
+                list(APPEND flags -rdynamic) # so that the consumer's dlsym sees what the archive brought in
+            endif()
+            set(exe "${WORK_DIR}/pkgconfig_${flavour}_${linkage}")
+            run("pkg-config ${flavour} ${linkage}" COMMAND "${CXX_COMPILER}" -std=c++11 -Wall -Wextra -Wpedantic
+                -Werror -DQUADPHASE_VARIANT_BOX2D_PACKAGE=1 "-DEXPECT_LIBRARY=\"${flavour}\""
+                "${CONSUMER_DIR}/../common/consumer.cpp" ${flags} -ldl -o "${exe}")
+            run("run pkg-config ${flavour} ${linkage}" COMMAND "${CMAKE_COMMAND}" -E env "LD_LIBRARY_PATH=${p}/lib"
+                "${exe}")
+        endforeach()
+    endforeach()
+endif()
 
 message(STATUS "[${MODE}] package test passed")

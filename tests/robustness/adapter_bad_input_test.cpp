@@ -183,6 +183,7 @@ TEST_CASE("a body teleported to NaN or infinity: reported, and the other bodies 
         }
         CHECK(broken.world->GetProxyCount() == twin.world->GetProxyCount());
         const std::string problem = quadphase::GetQuadtree(*broken.world).Validate();
+        INFO(problem);
         CHECK(problem.empty());
 
         // The victim comes back to a sane place: it pairs again.

@@ -1,10 +1,19 @@
-// quadphase's b2BroadPhase: forwards Box2D's calls to the quadtree and, in validation mode, to a shadow tree.
+// quadphase's b2BroadPhase: forwards Box2D's calls to the quadtree, keeps the stock-layout node array current and,
+// in validation mode, feeds a shadow b2DynamicTree.
 #include "box2d/b2_broad_phase.h"
 
+#include <atomic>
+#include <cstddef>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <mutex>
+#include <type_traits>
 
-#include "quadphase/shadow_validator.h"
+#include "broad_phase_state.h"
+#include "quadphase/box2d.h"
+
+using quadphase::detail::BroadPhaseState;
 
 namespace
 {
@@ -23,148 +32,367 @@ quadphase::FatPolicy Box2DFatPolicy()
     return policy;
 }
 
+quadphase::Box ToBox(const b2AABB& a)
+{
+    return quadphase::Box{a.lowerBound.x, a.lowerBound.y, a.upperBound.x, a.upperBound.y};
+}
+
+// The core's query callback type is the adapter's: the thunks pass straight through.
+static_assert(std::is_same<int32, quadphase::ProxyId>::value, "Box2D's int32 must be quadphase's ProxyId");
+
+// Process-wide validation totals (see AddValidationTotals).
+std::atomic<int64_t> g_validatedChecks{0};
+std::atomic<int64_t> g_validationMismatches{0};
+std::once_flag g_summaryAtExit;
+
+void PrintValidationSummary()
+{
+    std::fprintf(stderr, "quadphase: validation: %lld UpdatePairs checked, %lld mismatches\n",
+                 static_cast<long long>(g_validatedChecks.load()),
+                 static_cast<long long>(g_validationMismatches.load()));
+}
+
+BroadPhaseState& State(void* state)
+{
+    return *static_cast<BroadPhaseState*>(state);
+}
+
+// Adds what the validator found since the last call to the process-wide totals.
+void SyncValidationTotals(BroadPhaseState& state)
+{
+    const quadphase::ValidationReport& report = state.shadow->Report();
+    quadphase::ValidationReport delta;
+    delta.checks = report.checks - state.totalsAdded.checks;
+    delta.mismatches = report.mismatches - state.totalsAdded.mismatches;
+    quadphase::detail::AddValidationTotals(delta);
+    state.totalsAdded = report;
+}
+
 } // namespace
 
-b2BroadPhase::b2BroadPhase()
-    : m_core(Box2DFatPolicy())
+namespace quadphase
 {
+namespace detail
+{
+
+BroadPhaseState& StateOf(b2BroadPhase& broadPhase)
+{
+    void* state;
+    std::memcpy(&state, reinterpret_cast<unsigned char*>(&broadPhase) + kStateOffset, sizeof state);
+    return *static_cast<BroadPhaseState*>(state);
+}
+
+const BroadPhaseState& StateOf(const b2BroadPhase& broadPhase)
+{
+    void* state;
+    std::memcpy(&state, reinterpret_cast<const unsigned char*>(&broadPhase) + kStateOffset, sizeof state);
+    return *static_cast<const BroadPhaseState*>(state);
+}
+
+void AddValidationTotals(const ValidationReport& report)
+{
+    g_validatedChecks += report.checks;
+    g_validationMismatches += report.mismatches;
+}
+
+} // namespace detail
+} // namespace quadphase
+
+b2BroadPhase::b2BroadPhase()
+{
+    // The layout promises of b2_broad_phase.h, checked where the private members can be named.
+    static_assert(sizeof(b2BroadPhase) == 80 && alignof(b2BroadPhase) == 8, "b2BroadPhase must keep stock's size");
+    static_assert(offsetof(b2BroadPhase, m_tree) == 0 && offsetof(b2BroadPhase, m_proxyCount) == 32 &&
+                      offsetof(b2BroadPhase, m_state) == quadphase::detail::kStateOffset &&
+                      offsetof(b2BroadPhase, m_moveCount) == 52 && offsetof(b2BroadPhase, m_pairBuffer) == 56 &&
+                      offsetof(b2BroadPhase, m_queryProxyId) == 72,
+                  "b2BroadPhase must keep stock's member offsets");
+    static_assert(sizeof(b2TreeView) == sizeof(b2DynamicTree) && alignof(b2TreeView) == alignof(b2DynamicTree),
+                  "b2BroadPhase::m_tree must have b2DynamicTree's layout");
+    m_tree.root = b2_nullNode;
+    m_tree.nodes = nullptr;
+    m_tree.nodeCount = 0;
+    m_tree.nodeCapacity = 0;
+    m_tree.freeList = b2_nullNode;
+    m_tree.insertionCount = 0;
+    m_proxyCount = 0;
+    m_state = new BroadPhaseState(Box2DFatPolicy());
+    m_moveCapacity = 0;
+    m_moveCount = 0;
+    m_pairBuffer = nullptr;
+    m_pairCapacity = 0;
+    m_pairCount = 0;
+    m_queryProxyId = e_nullProxy;
     if (ValidationRequestedByEnvironment())
     {
-        SetValidation(true);
+        quadphase::SetValidation(*this, true);
     }
 }
 
 b2BroadPhase::~b2BroadPhase()
 {
-    delete m_shadow;
-}
-
-void b2BroadPhase::SetValidation(bool enabled)
-{
-    if (enabled && m_shadow == nullptr)
+    BroadPhaseState& state = State(m_state);
+    if (state.shadow)
     {
-        m_shadow = new quadphase::ShadowValidator(m_core);
+        quadphase::SetValidation(*this, false);
     }
-    else if (!enabled)
-    {
-        delete m_shadow;
-        m_shadow = nullptr;
-    }
+    delete &state;
+    b2Free(m_tree.nodes);
 }
 
 int32 b2BroadPhase::CreateProxy(const b2AABB& aabb, void* userData)
 {
-    const int32 proxyId = m_core.CreateProxy(quadphase::detail::ToBox(aabb), userData);
-    if (m_trace != nullptr)
+    BroadPhaseState& state = State(m_state);
+    const int32 proxyId = state.core.CreateProxy(ToBox(aabb), userData);
+    if (proxyId >= m_tree.nodeCapacity)
     {
-        m_trace->Add({quadphase::TraceOp::Create, proxyId, quadphase::detail::ToBox(aabb), {}});
+        // Grows the records by doubling (amortised O(1)), then hands the new array to the core, which copies every
+        // live fat box into it.
+        const int32 capacity = b2Max(b2Max(16, 2 * m_tree.nodeCapacity), proxyId + 1);
+        b2TreeNode* nodes = static_cast<b2TreeNode*>(b2Alloc(capacity * int32(sizeof(b2TreeNode))));
+        if (m_tree.nodes != nullptr)
+        {
+            std::memcpy(nodes, m_tree.nodes, size_t(m_tree.nodeCapacity) * sizeof(b2TreeNode));
+        }
+        for (int32 i = m_tree.nodeCapacity; i < capacity; ++i)
+        {
+            b2TreeNode& node = nodes[i];
+            node.aabb.lowerBound.SetZero();
+            node.aabb.upperBound.SetZero();
+            node.userData = nullptr;
+            node.next = b2_nullNode;
+            node.child1 = b2_nullNode;
+            node.child2 = b2_nullNode;
+            node.height = -1;
+            node.moved = false;
+        }
+        b2Free(m_tree.nodes);
+        m_tree.nodes = nodes;
+        m_tree.nodeCapacity = capacity;
+        quadphase::BoxMirror mirror;
+        mirror.base = reinterpret_cast<unsigned char*>(nodes) + offsetof(b2TreeNode, aabb);
+        mirror.stride = sizeof(b2TreeNode);
+        mirror.capacity = capacity;
+        state.core.SetBoxMirror(mirror);
     }
-    if (m_shadow != nullptr)
+    // The core writes the records of the fat boxes it changes, but a new proxy's is the adapter's to write.
+    const quadphase::Box& fat = state.core.GetPool().Fat(proxyId);
+    b2TreeNode& node = m_tree.nodes[proxyId];
+    node.aabb.lowerBound.Set(fat.minX, fat.minY);
+    node.aabb.upperBound.Set(fat.maxX, fat.maxY);
+    node.userData = userData;
+    node.height = 0;
+    m_tree.nodeCount = state.core.GetProxyCount();
+    m_proxyCount = state.core.GetProxyCount();
+    if (state.trace != nullptr)
     {
-        m_shadow->OnCreate(proxyId, aabb);
+        state.trace->Add({quadphase::TraceOp::Create, proxyId, ToBox(aabb), {}});
+    }
+    if (state.shadow)
+    {
+        state.shadow->OnCreate(proxyId, aabb);
+        SyncValidationTotals(state);
     }
     return proxyId;
 }
 
 void b2BroadPhase::DestroyProxy(int32 proxyId)
 {
-    if (m_trace != nullptr)
+    BroadPhaseState& state = State(m_state);
+    if (state.trace != nullptr)
     {
-        m_trace->Add({quadphase::TraceOp::Destroy, proxyId, {}, {}});
+        state.trace->Add({quadphase::TraceOp::Destroy, proxyId, {}, {}});
     }
-    if (m_shadow != nullptr && m_core.GetPool().IsLive(proxyId))
+    const bool live = state.core.GetPool().IsLive(proxyId);
+    if (state.shadow && live)
     {
-        m_shadow->OnDestroy(proxyId);
+        state.shadow->OnDestroy(proxyId);
     }
-    m_core.DestroyProxy(proxyId);
+    state.core.DestroyProxy(proxyId); // reports an unknown id
+    if (live)
+    {
+        b2TreeNode& node = m_tree.nodes[proxyId];
+        node.userData = nullptr;
+        node.height = -1;
+    }
+    m_tree.nodeCount = state.core.GetProxyCount();
+    m_proxyCount = state.core.GetProxyCount();
 }
 
 void b2BroadPhase::MoveProxy(int32 proxyId, const b2AABB& aabb, const b2Vec2& displacement)
 {
-    if (m_trace != nullptr)
+    BroadPhaseState& state = State(m_state);
+    if (state.trace != nullptr)
     {
-        m_trace->Add({quadphase::TraceOp::Move, proxyId, quadphase::detail::ToBox(aabb), {displacement.x, displacement.y}});
+        state.trace->Add({quadphase::TraceOp::Move, proxyId, ToBox(aabb), {displacement.x, displacement.y}});
     }
     // Queued: Box2D moves its bodies one by one on this thread; the fat-AABB tests run in parallel in UpdatePairs.
-    m_core.QueueMove(proxyId, quadphase::detail::ToBox(aabb), {displacement.x, displacement.y});
-    if (m_shadow != nullptr && m_core.GetPool().IsLive(proxyId))
+    state.core.QueueMove(proxyId, ToBox(aabb), {displacement.x, displacement.y});
+    if (state.shadow && state.core.GetPool().IsLive(proxyId))
     {
-        m_shadow->OnMove(proxyId, aabb, displacement);
+        state.shadow->OnMove(proxyId, aabb, displacement);
     }
 }
 
 void b2BroadPhase::TouchProxy(int32 proxyId)
 {
-    if (m_trace != nullptr)
+    BroadPhaseState& state = State(m_state);
+    if (state.trace != nullptr)
     {
-        m_trace->Add({quadphase::TraceOp::Touch, proxyId, {}, {}});
+        state.trace->Add({quadphase::TraceOp::Touch, proxyId, {}, {}});
     }
-    m_core.TouchProxy(proxyId);
-    if (m_shadow != nullptr && m_core.GetPool().IsLive(proxyId))
+    state.core.TouchProxy(proxyId);
+    if (state.shadow && state.core.GetPool().IsLive(proxyId))
     {
-        m_shadow->OnTouch(proxyId);
+        state.shadow->OnTouch(proxyId);
     }
+}
+
+void b2BroadPhase::BufferMove(int32 proxyId)
+{
+    // Stock: puts the proxy in the move buffer, which is what TouchProxy does here.
+    State(m_state).core.TouchProxy(proxyId);
+}
+
+void b2BroadPhase::UnBufferMove(int32)
+{
+    // Stock: nulls the proxy out of the move buffer when it is destroyed; the core's DestroyProxy does that itself.
+}
+
+bool b2BroadPhase::QueryCallback(int32)
+{
+    // Stock: collects a pair for the proxy being queried by its inline UpdatePairs. A program that compiled its own
+    // copy of that template walks m_tree, whose root is b2_nullNode here, so this is never reached; answering
+    // true (go on) keeps such a walk harmless if it were.
+    return true;
 }
 
 const b2AABB& b2BroadPhase::GetFatAABB(int32 proxyId) const
 {
-    const quadphase::Box& box = m_core.GetFatBox(proxyId); // reports an unknown id and gives an empty box
-    if (proxyId < 0)
+    // GetFatBox applies queued moves (so the record is current) and reports an unknown id.
+    State(m_state).core.GetFatBox(proxyId);
+    if (proxyId < 0 || proxyId >= m_tree.nodeCapacity)
     {
         static const b2AABB empty = {{0.0f, 0.0f}, {0.0f, 0.0f}};
         return empty;
     }
-    std::lock_guard<std::mutex> lock(m_fatCopiesMutex);
-    const size_t chunk = size_t(proxyId / kFatChunk);
-    if (chunk >= m_fatCopies.size())
-    {
-        m_fatCopies.resize(chunk + 1);
-    }
-    if (!m_fatCopies[chunk])
-    {
-        m_fatCopies[chunk].reset(new b2AABB[kFatChunk]);
-    }
-    b2AABB& copy = m_fatCopies[chunk][proxyId % kFatChunk];
-    copy.lowerBound.Set(box.minX, box.minY);
-    copy.upperBound.Set(box.maxX, box.maxY);
-    return copy;
+    return m_tree.nodes[proxyId].aabb;
 }
 
-void b2BroadPhase::CheckPairs()
+void* b2BroadPhase::GetUserData(int32 proxyId) const
 {
-    m_shadow->OnUpdatePairs(m_pairs);
+    return State(m_state).core.GetUserData(proxyId);
+}
+
+bool b2BroadPhase::TestOverlap(int32 proxyIdA, int32 proxyIdB) const
+{
+    return State(m_state).core.TestOverlap(proxyIdA, proxyIdB);
+}
+
+void b2BroadPhase::UpdatePairsWith(b2AddPairThunk thunk, void* callback)
+{
+    BroadPhaseState& state = State(m_state);
+    if (state.trace != nullptr)
+    {
+        state.trace->Add({quadphase::TraceOp::UpdatePairs, -1, {}, {}});
+    }
+    state.pairs.clear();
+    state.core.FindPairs(state.pairs);
+    if (state.shadow)
+    {
+        state.shadow->OnUpdatePairs(state.pairs);
+        SyncValidationTotals(state);
+    }
+    const quadphase::ProxyPool& pool = state.core.GetPool();
+    for (const quadphase::Pair& pair : state.pairs)
+    {
+        thunk(callback, pool.UserData(pair.a), pool.UserData(pair.b));
+    }
+}
+
+void b2BroadPhase::QueryWith(b2QueryThunk thunk, void* callback, const b2AABB& aabb) const
+{
+    State(m_state).core.Query(ToBox(aabb), thunk, callback);
+}
+
+namespace
+{
+
+struct RayCastBridge
+{
+    float (*thunk)(void*, const b2RayCastInput&, int32);
+    void* callback;
+    b2RayCastInput input;
+
+    static float Call(void* context, const quadphase::RayInput& in, quadphase::ProxyId id)
+    {
+        RayCastBridge& self = *static_cast<RayCastBridge*>(context);
+        self.input.maxFraction = in.maxFraction; // p1 and p2 never change; the core clips maxFraction
+        return self.thunk(self.callback, self.input, id);
+    }
+};
+
+} // namespace
+
+void b2BroadPhase::RayCastWith(b2RayCastThunk thunk, void* callback, const b2RayCastInput& input) const
+{
+    RayCastBridge bridge{thunk, callback, input};
+    const quadphase::RayInput in{{input.p1.x, input.p1.y}, {input.p2.x, input.p2.y}, input.maxFraction};
+    State(m_state).core.RayCast(in, &RayCastBridge::Call, &bridge);
 }
 
 int32 b2BroadPhase::GetTreeHeight() const
 {
-    return m_core.GetPyramid().Depth();
+    return State(m_state).core.GetPyramid().Depth();
 }
 
 int32 b2BroadPhase::GetTreeBalance() const
 {
     int64_t occupied = 0;
     int64_t largest = 0;
-    m_core.GetPyramid().CountOccupancy(occupied, largest);
+    State(m_state).core.GetPyramid().CountOccupancy(occupied, largest);
     return int32(largest);
 }
 
 float b2BroadPhase::GetTreeQuality() const
 {
+    const BroadPhaseState& state = State(m_state);
     int64_t occupied = 0;
     int64_t largest = 0;
-    m_core.GetPyramid().CountOccupancy(occupied, largest);
-    return occupied > 0 ? float(m_core.GetProxyCount()) / float(occupied) : 0.0f;
+    state.core.GetPyramid().CountOccupancy(occupied, largest);
+    return occupied > 0 ? float(state.core.GetProxyCount()) / float(occupied) : 0.0f;
 }
 
 void b2BroadPhase::ShiftOrigin(const b2Vec2& newOrigin)
 {
-    if (m_trace != nullptr)
+    BroadPhaseState& state = State(m_state);
+    if (state.trace != nullptr)
     {
-        m_trace->Add({quadphase::TraceOp::ShiftOrigin, -1, {}, {newOrigin.x, newOrigin.y}});
+        state.trace->Add({quadphase::TraceOp::ShiftOrigin, -1, {}, {newOrigin.x, newOrigin.y}});
     }
-    m_core.ShiftOrigin({newOrigin.x, newOrigin.y});
-    if (m_shadow != nullptr)
+    state.core.ShiftOrigin({newOrigin.x, newOrigin.y}); // rewrites every record
+    if (state.shadow)
     {
-        m_shadow->OnShiftOrigin(newOrigin);
+        state.shadow->OnShiftOrigin(newOrigin);
     }
 }
+
+namespace quadphase
+{
+
+void SetValidation(b2BroadPhase& broadPhase, bool enabled)
+{
+    detail::BroadPhaseState& state = detail::StateOf(broadPhase);
+    if (enabled && !state.shadow)
+    {
+        state.shadow.reset(new ShadowValidator(state.core));
+        std::call_once(g_summaryAtExit, [] { std::atexit(&PrintValidationSummary); });
+    }
+    else if (!enabled && state.shadow)
+    {
+        state.shadow.reset();
+        state.totalsAdded = ValidationReport{};
+    }
+}
+
+} // namespace quadphase

@@ -2,6 +2,8 @@
 
 #include "box2d/b2_contact_manager.h"
 
+#include "broad_phase_state.h"
+
 namespace quadphase
 {
 namespace
@@ -22,79 +24,75 @@ const b2BroadPhase& BroadPhaseOf(const b2World& world)
 
 void Configure(b2World& world, const Config& config)
 {
-    BroadPhaseOf(world).GetQuadtree().Configure(config);
+    GetQuadtree(BroadPhaseOf(world)).Configure(config);
 }
 
 Config GetConfig(const b2World& world)
 {
-    return BroadPhaseOf(world).GetQuadtree().GetConfig();
+    return GetQuadtree(BroadPhaseOf(world)).GetConfig();
 }
 
 Stats GetStats(const b2World& world)
 {
-    return BroadPhaseOf(world).GetQuadtree().GetStats();
+    return GetQuadtree(BroadPhaseOf(world)).GetStats();
 }
 
 void ResetCounters(b2World& world)
 {
-    BroadPhaseOf(world).GetQuadtree().ResetCounters();
+    GetQuadtree(BroadPhaseOf(world)).ResetCounters();
 }
 
 void SetTiming(b2World& world, bool enabled)
 {
-    BroadPhaseOf(world).GetQuadtree().SetTiming(enabled);
+    GetQuadtree(BroadPhaseOf(world)).SetTiming(enabled);
 }
 
 void SetValidation(b2World& world, bool enabled)
 {
-    BroadPhaseOf(world).SetValidation(enabled);
+    SetValidation(BroadPhaseOf(world), enabled);
 }
 
 ValidationReport GetValidationReport(const b2World& world)
 {
-    const ShadowValidator* validator = BroadPhaseOf(world).GetValidator();
-    return validator != nullptr ? validator->Report() : ValidationReport{};
+    return GetValidationReport(BroadPhaseOf(world));
 }
 
 void SetTrace(b2World& world, Trace* trace)
 {
-    BroadPhaseOf(world).SetTrace(trace);
+    SetTrace(BroadPhaseOf(world), trace);
 }
 
 const QuadtreeBroadPhase& GetQuadtree(const b2World& world)
 {
-    return BroadPhaseOf(world).GetQuadtree();
+    return GetQuadtree(BroadPhaseOf(world));
 }
 
 QuadtreeBroadPhase& GetQuadtree(b2BroadPhase& broadPhase)
 {
-    return broadPhase.GetQuadtree();
+    return detail::StateOf(broadPhase).core;
 }
 
 const QuadtreeBroadPhase& GetQuadtree(const b2BroadPhase& broadPhase)
 {
-    return broadPhase.GetQuadtree();
+    return detail::StateOf(broadPhase).core;
 }
 
-void SetValidation(b2BroadPhase& broadPhase, bool enabled)
-{
-    broadPhase.SetValidation(enabled);
-}
+// SetValidation(b2BroadPhase&, bool) is in b2_broad_phase.cpp, beside the validator's other calls.
 
 bool IsValidating(const b2BroadPhase& broadPhase)
 {
-    return broadPhase.IsValidating();
+    return detail::StateOf(broadPhase).shadow != nullptr;
 }
 
 ValidationReport GetValidationReport(const b2BroadPhase& broadPhase)
 {
-    const ShadowValidator* validator = broadPhase.GetValidator();
-    return validator != nullptr ? validator->Report() : ValidationReport{};
+    const detail::BroadPhaseState& state = detail::StateOf(broadPhase);
+    return state.shadow ? state.shadow->Report() : ValidationReport{};
 }
 
 void SetTrace(b2BroadPhase& broadPhase, Trace* trace)
 {
-    broadPhase.SetTrace(trace);
+    detail::StateOf(broadPhase).trace = trace;
 }
 
 } // namespace quadphase

@@ -1,5 +1,6 @@
 #include "quadphase/proxy_pool.h"
 
+#include <algorithm>
 #include <string>
 
 #include "quadphase/error.h"
@@ -21,7 +22,16 @@ ProxyId ProxyPool::Allocate(const Box& fat, void* userData)
     }
     else
     {
-        id = ProxyId(m_state.size());
+        // Room in all three arrays first: std::bad_alloc then leaves the pool as it was.
+        const size_t n = m_state.size();
+        if (n == m_state.capacity() || n == m_fat.capacity() || n == m_userData.capacity())
+        {
+            const size_t capacity = std::max<size_t>(16, 2 * n);
+            m_fat.reserve(capacity);
+            m_userData.reserve(capacity);
+            m_state.reserve(capacity);
+        }
+        id = ProxyId(n);
         m_fat.push_back(fat);
         m_userData.push_back(userData);
         m_state.push_back(kLive);

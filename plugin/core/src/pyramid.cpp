@@ -62,23 +62,35 @@ void Pyramid::Place(const Box& box, int& level, int32_t& index) const
     index -= LevelOffset(level);
 }
 
+void Pyramid::ReserveLevelSlot(int level)
+{
+    std::vector<ProxyId>& levelList = m_levelProxies[size_t(level)];
+    if (levelList.size() == levelList.capacity())
+    {
+        levelList.reserve(std::max<size_t>(16, 2 * levelList.capacity()));
+    }
+}
+
 void Pyramid::Store(ProxyId id, const Box& box, int level, int32_t cell)
 {
+    // Everything that allocates comes first, so std::bad_alloc leaves the pyramid as it was.
+    ReserveLevelSlot(level);
+    const int32_t slot = m_store.Push(cell, Entry{box, id});
     Location& loc = m_location[size_t(id)];
     loc.cell = cell;
-    loc.slot = m_store.Push(cell, Entry{box, id});
+    loc.slot = slot;
     ++m_stored;
     std::vector<ProxyId>& levelList = m_levelProxies[size_t(level)];
     loc.level = int8_t(level);
     loc.levelSlot = int32_t(levelList.size());
-    levelList.push_back(id);
+    levelList.push_back(id); // within the capacity reserved above
 }
 
 void Pyramid::Insert(ProxyId id, const Box& box)
 {
     if (size_t(id) >= m_location.size())
     {
-        m_location.resize(size_t(id) + 1);
+        m_location.resize(std::max(size_t(id) + 1, 2 * m_location.size()));
     }
     int level;
     int32_t cell;
@@ -99,17 +111,21 @@ void Pyramid::RemoveFromCell(ProxyId id)
     }
 }
 
-void Pyramid::Remove(ProxyId id)
+void Pyramid::RemoveFromLevel(ProxyId id)
 {
-    RemoveFromCell(id);
-    Location& loc = m_location[size_t(id)];
-
+    const Location& loc = m_location[size_t(id)];
     std::vector<ProxyId>& levelList = m_levelProxies[size_t(loc.level)];
     const ProxyId lastId = levelList.back();
     m_location[size_t(lastId)].levelSlot = loc.levelSlot;
     levelList[size_t(loc.levelSlot)] = lastId;
     levelList.pop_back();
+}
 
+void Pyramid::Remove(ProxyId id)
+{
+    RemoveFromCell(id);
+    RemoveFromLevel(id);
+    Location& loc = m_location[size_t(id)];
     m_outsideCount -= loc.outside ? 1 : 0;
     loc = Location{};
     --m_stored;
@@ -145,8 +161,18 @@ bool Pyramid::UpdatePlaced(ProxyId id, const Box& box, int level, int32_t cell)
     }
     else
     {
-        Remove(id); // also takes the old outside flag off the count and clears it
-        Store(id, box, level, cell);
+        // A change of level. The allocations first (the new level's list, the new cell's entry), so that
+        // std::bad_alloc leaves the proxy where it was; then the removal from the old cell and level.
+        ReserveLevelSlot(level);
+        const int32_t slot = m_store.Push(cell, Entry{box, id});
+        RemoveFromCell(id);
+        RemoveFromLevel(id);
+        std::vector<ProxyId>& levelList = m_levelProxies[size_t(level)];
+        loc.cell = cell;
+        loc.slot = slot;
+        loc.level = int8_t(level);
+        loc.levelSlot = int32_t(levelList.size());
+        levelList.push_back(id); // within the capacity reserved above
     }
     m_outsideCount += int32_t(outside) - int32_t(loc.outside);
     loc.outside = outside;

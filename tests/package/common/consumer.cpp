@@ -2,19 +2,26 @@
 //
 // Creates a b2World with two overlapping dynamic boxes (and one far away),
 // steps it, and checks that exactly one touching contact exists.  Exits
-// non-zero otherwise.  Built against quadphase::box2d (QUADPHASE_VARIANT_QUADPHASE)
-// or quadphase::box2d_stock (QUADPHASE_VARIANT_STOCK).
+// non-zero otherwise.  Built against quadphase::box2d (QUADPHASE_VARIANT_QUADPHASE),
+// quadphase::box2d_stock (QUADPHASE_VARIANT_STOCK), or Box2D's own package names
+// (QUADPHASE_VARIANT_BOX2D_PACKAGE, C++11).
 #include <box2d/box2d.h>
 #if defined(QUADPHASE_VARIANT_QUADPHASE)
 #include <quadphase/box2d.h>
 #define CONSUMER_VARIANT "quadphase"
 #elif defined(QUADPHASE_VARIANT_STOCK)
 #define CONSUMER_VARIANT "stock"
+#elif defined(QUADPHASE_VARIANT_BOX2D_PACKAGE)
+// Box2D's own package names (find_package(box2d), pkg-config box2d): a C++11 game that includes only <box2d/box2d.h>.
+// EXPECT_LIBRARY ("quadphase" or "stock") says which library the prefix must have given it; dlsym tells.
+#include <dlfcn.h>
+#define CONSUMER_VARIANT "box2d package"
 #else
-#error "define QUADPHASE_VARIANT_QUADPHASE or QUADPHASE_VARIANT_STOCK"
+#error "define QUADPHASE_VARIANT_QUADPHASE, QUADPHASE_VARIANT_STOCK or QUADPHASE_VARIANT_BOX2D_PACKAGE"
 #endif
 
 #include <cstdio>
+#include <cstring>
 
 static b2Body* addBox(b2World& world, float x, float y)
 {
@@ -57,7 +64,15 @@ int main()
 
     std::printf("consumer (%s): %d contact(s), %d touching, GetContactCount()=%d, pair %s\n", CONSUMER_VARIANT,
                 contacts, touching, world.GetContactCount(), pairOk ? "found" : "MISSING");
-    const bool ok = contacts == 1 && touching == 1 && pairOk && world.GetContactCount() == 1;
+    bool ok = contacts == 1 && touching == 1 && pairOk && world.GetContactCount() == 1;
+#if defined(QUADPHASE_VARIANT_BOX2D_PACKAGE)
+    // quadphase::SetValidation(b2BroadPhase&, bool): defined beside quadphase's b2BroadPhase, so a static link
+    // (with -rdynamic) has it too.
+    const bool quadphase = dlsym(RTLD_DEFAULT, "_ZN9quadphase13SetValidationER12b2BroadPhaseb") != nullptr;
+    std::printf("consumer (%s): library %s, expected %s\n", CONSUMER_VARIANT, quadphase ? "quadphase" : "stock",
+                EXPECT_LIBRARY);
+    ok = ok && std::strcmp(quadphase ? "quadphase" : "stock", EXPECT_LIBRARY) == 0;
+#endif
     std::printf("consumer (%s): %s\n", CONSUMER_VARIANT, ok ? "OK" : "FAILED");
     return ok ? 0 : 1;
 }

@@ -1,25 +1,27 @@
-// quadphase's b2BroadPhase: the public API of Box2D 2.4.1's b2_broad_phase.h, implemented over a static quadtree
-// (quadphase::QuadtreeBroadPhase) instead of b2DynamicTree. This header replaces Box2D's own in the include tree
-// that quadphase::box2d is compiled with and exports, so every translation unit sees this class layout.
+// quadphase's b2BroadPhase: the public API and the binary layout of Box2D 2.4.1's b2_broad_phase.h, implemented
+// over a static quadtree (quadphase::QuadtreeBroadPhase, held behind an opaque pointer) instead of b2DynamicTree.
+// This header replaces Box2D's own in the include tree that quadphase's Box2D is built with and installed with.
+//
+// Rules this header keeps (checked by tests/abi):
+// - It includes only Box2D's own headers, compiles as C++11 with -Wall -Wextra -Wpedantic, and declares no name
+//   outside the class b2BroadPhase and the struct b2Pair that stock declares: a game that defines macros such as
+//   Config, Stats or Box before including <box2d/box2d.h> still compiles.
+// - sizeof, alignof and the offset of every member that stock's inline functions read are stock's (80 bytes), so
+//   b2ContactManager and b2World keep stock's layout, and a program compiled against stock headers runs on this
+//   library (the binary swap through LD_LIBRARY_PATH).
+// - What stock's inline functions read, compiled into such a program, stays valid: m_tree's node array holds, per
+//   proxy id, the fat AABB and the user data (GetFatAABB, GetUserData and TestOverlap read them exactly);
+//   m_proxyCount is the proxy count; the tree's root is b2_nullNode, so a height of 0, and stock's inline Query,
+//   RayCast and UpdatePairs, if a program compiled its own copies, find nothing instead of reading freed memory.
+// quadphase's extras (Configure, GetStats, SetValidation, ...) are in <quadphase/box2d.h>.
+
 #ifndef B2_BROAD_PHASE_H
 #define B2_BROAD_PHASE_H
 
-#include <memory>
-#include <mutex>
-#include <vector>
-
 #include "b2_api.h"
-#include "b2_collision.h"
-#include "b2_dynamic_tree.h" // not used by the quadtree; kept because Box2D's header includes it
 #include "b2_settings.h"
-
-#include "quadphase/quadtree_broad_phase.h"
-#include "quadphase/trace.h"
-
-namespace quadphase
-{
-class ShadowValidator;
-}
+#include "b2_collision.h"
+#include "b2_dynamic_tree.h"
 
 struct B2_API b2Pair
 {
@@ -46,8 +48,6 @@ public:
 
     b2BroadPhase();
     ~b2BroadPhase();
-    b2BroadPhase(const b2BroadPhase&) = delete;
-    b2BroadPhase& operator=(const b2BroadPhase&) = delete;
 
     /// Create a proxy with an initial AABB. Pairs are not reported until
     /// UpdatePairs is called.
@@ -66,9 +66,8 @@ public:
     void TouchProxy(int32 proxyId);
 
     /// Get the fat AABB for a proxy.
-    /// quadphase: the reference is to a copy kept for this proxy id (the quadtree stores boxes in its own type,
-    /// and reading them through a b2AABB would break strict aliasing). It stays readable while the broadphase
-    /// lives; its value is the fat AABB as of this call, refreshed by the next GetFatAABB of the same id.
+    /// quadphase: the reference is into the node array, as with the stock tree: valid until the next call that
+    /// creates a proxy (the array may grow) or moves or destroys this one.
     const b2AABB& GetFatAABB(int32 proxyId) const;
 
     /// Get user data from a proxy. Returns nullptr if the id is invalid.
@@ -81,7 +80,7 @@ public:
     int32 GetProxyCount() const;
 
     /// Update the pairs. This results in pair callbacks. This can only add pairs.
-    /// Costs in proportion to the proxies created, moved or touched since the previous call and their
+    /// quadphase: costs in proportion to the proxies created, moved or touched since the previous call and their
     /// neighbourhoods, not to the number of proxies: Box2D calls it after every time-of-impact event too.
     template <typename T>
     void UpdatePairs(T* callback);
@@ -91,7 +90,7 @@ public:
     /// quadphase: the callback may create, destroy and move proxies (b2World::QueryAABB callbacks that spawn,
     /// destroy, teleport, enable or wake bodies). A proxy that exists before the call and is neither destroyed nor
     /// moved during it is reported once; one destroyed during the call is never reported after its destruction;
-    /// one created or moved during it may or may not be (QuadtreeBroadPhase::Query).
+    /// one created or moved during it may or may not be.
     template <typename T>
     void Query(T* callback, const b2AABB& aabb) const;
 
@@ -100,8 +99,8 @@ public:
     /// The callback also performs the any collision filtering.
     /// @param input the ray-cast input data. The ray extends from p1 to p1 + maxFraction * (p2 - p1).
     /// @param callback a callback class that is called for each proxy that is hit by the ray.
-    /// quadphase: walks only the cells the (clipped) ray can reach; the callback may change the broadphase as in
-    /// Query, with the same guarantees (QuadtreeBroadPhase::RayCast).
+    /// quadphase: walks only the cells the (clipped) ray can reach, so a long or diagonal ray costs the cells it
+    /// crosses; the callback may change the broadphase as in Query, with the same guarantees.
     template <typename T>
     void RayCast(T* callback, const b2RayCastInput& input) const;
 
@@ -121,109 +120,94 @@ public:
     /// quadphase: O(proxies); the quadtree's bounds move with the world.
     void ShiftOrigin(const b2Vec2& newOrigin);
 
-    // ---- quadphase extensions (use them through <quadphase/box2d.h>) ----
-
-    /// The quadtree, for settings, statistics and drawing.
-    quadphase::QuadtreeBroadPhase& GetQuadtree() { return m_core; }
-    const quadphase::QuadtreeBroadPhase& GetQuadtree() const { return m_core; }
-
-    /// Validation mode: a shadow b2DynamicTree receives the same calls, and each UpdatePairs checks that both
-    /// give the same set of pairs and the same fat AABBs. Also switched on at construction by the environment
-    /// variable QUADPHASE_VALIDATE=1. Mismatches go to quadphase's error hook (ErrorCode::ValidationMismatch).
-    void SetValidation(bool enabled);
-    bool IsValidating() const { return m_shadow != nullptr; }
-    const quadphase::ShadowValidator* GetValidator() const { return m_shadow; }
-
-    /// Records every later call into `trace` (nullptr stops). The trace must outlive the recording.
-    void SetTrace(quadphase::Trace* trace) { m_trace = trace; }
-
 private:
-    void CheckPairs();
+    friend class b2DynamicTree;
 
-    quadphase::QuadtreeBroadPhase m_core;
-    std::vector<quadphase::Pair> m_pairs;
-    quadphase::ShadowValidator* m_shadow = nullptr;
-    quadphase::Trace* m_trace = nullptr;
-    // GetFatAABB's copies, in chunks that never move (a reference handed out stays valid), allocated on first use:
-    // Box2D itself reads fat AABBs only to draw them.
-    static constexpr int32 kFatChunk = 256;
-    mutable std::vector<std::unique_ptr<b2AABB[]>> m_fatCopies;
-    mutable std::mutex m_fatCopiesMutex; // GetFatAABB is const: concurrent const calls may write the copies
+    // Stock's private functions, kept so that this library exports every symbol stock's does: a program compiled
+    // against stock headers that instantiates stock's inline UpdatePairs references QueryCallback. Nothing here
+    // calls them (see b2_broad_phase.cpp).
+    void BufferMove(int32 proxyId);
+    void UnBufferMove(int32 proxyId);
+    bool QueryCallback(int32 proxyId);
+
+    // Callbacks of the templates, passed to the library as plain functions.
+    typedef bool (*b2QueryThunk)(void* callback, int32 proxyId);
+    typedef float (*b2RayCastThunk)(void* callback, const b2RayCastInput& input, int32 proxyId);
+    typedef void (*b2AddPairThunk)(void* callback, void* userDataA, void* userDataB);
+
+    template <typename T>
+    static bool QueryThunkOf(void* callback, int32 proxyId)
+    {
+        return static_cast<T*>(callback)->QueryCallback(proxyId);
+    }
+
+    template <typename T>
+    static float RayCastThunkOf(void* callback, const b2RayCastInput& input, int32 proxyId)
+    {
+        return static_cast<T*>(callback)->RayCastCallback(input, proxyId);
+    }
+
+    template <typename T>
+    static void AddPairThunkOf(void* callback, void* userDataA, void* userDataB)
+    {
+        static_cast<T*>(callback)->AddPair(userDataA, userDataB);
+    }
+
+    void QueryWith(b2QueryThunk thunk, void* callback, const b2AABB& aabb) const;
+    void RayCastWith(b2RayCastThunk thunk, void* callback, const b2RayCastInput& input) const;
+    void UpdatePairsWith(b2AddPairThunk thunk, void* callback);
+
+    // Stock's b2DynamicTree m_tree, member for member (m_root, m_nodes, m_nodeCount, m_nodeCapacity, m_freeList,
+    // m_insertionCount). nodes[id] is proxy id's record: fat AABB and user data, height 0 and child1 b2_nullNode
+    // while the proxy lives, height -1 and user data nullptr after it is destroyed. root is always b2_nullNode.
+    struct b2TreeView
+    {
+        int32 root;
+        b2TreeNode* nodes;
+        int32 nodeCount;
+        int32 nodeCapacity;
+        int32 freeList;
+        int32 insertionCount;
+    };
+
+    b2TreeView m_tree;
+
+    int32 m_proxyCount;
+
+    // In stock's int32* m_moveBuffer: the quadtree and the adapter's state (the library's
+    // quadphase::detail::BroadPhaseState), opaque here.
+    void* m_state;
+    int32 m_moveCapacity; // 0
+    int32 m_moveCount;    // 0: stock's inline UpdatePairs, compiled into a program, finds no moved proxy
+
+    b2Pair* m_pairBuffer; // nullptr
+    int32 m_pairCapacity; // 0
+    int32 m_pairCount;    // 0
+
+    int32 m_queryProxyId; // e_nullProxy
 };
-
-namespace quadphase
-{
-namespace detail
-{
-inline Box ToBox(const b2AABB& a)
-{
-    return Box{a.lowerBound.x, a.lowerBound.y, a.upperBound.x, a.upperBound.y};
-}
-
-template <typename T>
-bool QueryTrampoline(void* context, ProxyId id)
-{
-    return static_cast<T*>(context)->QueryCallback(id);
-}
-
-template <typename T>
-float RayCastTrampoline(void* context, const RayInput& in, ProxyId id)
-{
-    b2RayCastInput sub;
-    sub.p1.Set(in.p1.x, in.p1.y);
-    sub.p2.Set(in.p2.x, in.p2.y);
-    sub.maxFraction = in.maxFraction;
-    return static_cast<T*>(context)->RayCastCallback(sub, id);
-}
-} // namespace detail
-} // namespace quadphase
-
-inline void* b2BroadPhase::GetUserData(int32 proxyId) const
-{
-    return m_core.GetUserData(proxyId);
-}
-
-inline bool b2BroadPhase::TestOverlap(int32 proxyIdA, int32 proxyIdB) const
-{
-    return m_core.TestOverlap(proxyIdA, proxyIdB);
-}
 
 inline int32 b2BroadPhase::GetProxyCount() const
 {
-    return m_core.GetProxyCount();
+    return m_proxyCount;
 }
 
 template <typename T>
 void b2BroadPhase::UpdatePairs(T* callback)
 {
-    if (m_trace != nullptr)
-    {
-        m_trace->Add({quadphase::TraceOp::UpdatePairs, -1, {}, {}});
-    }
-    m_pairs.clear();
-    m_core.FindPairs(m_pairs);
-    if (m_shadow != nullptr)
-    {
-        CheckPairs();
-    }
-    const quadphase::ProxyPool& pool = m_core.GetPool();
-    for (const quadphase::Pair& pair : m_pairs)
-    {
-        callback->AddPair(pool.UserData(pair.a), pool.UserData(pair.b));
-    }
+    UpdatePairsWith(&b2BroadPhase::AddPairThunkOf<T>, callback);
 }
 
 template <typename T>
 inline void b2BroadPhase::Query(T* callback, const b2AABB& aabb) const
 {
-    m_core.Query(quadphase::detail::ToBox(aabb), &quadphase::detail::QueryTrampoline<T>, callback);
+    QueryWith(&b2BroadPhase::QueryThunkOf<T>, callback, aabb);
 }
 
 template <typename T>
 inline void b2BroadPhase::RayCast(T* callback, const b2RayCastInput& input) const
 {
-    const quadphase::RayInput in{{input.p1.x, input.p1.y}, {input.p2.x, input.p2.y}, input.maxFraction};
-    m_core.RayCast(in, &quadphase::detail::RayCastTrampoline<T>, callback);
+    RayCastWith(&b2BroadPhase::RayCastThunkOf<T>, callback, input);
 }
 
 #endif

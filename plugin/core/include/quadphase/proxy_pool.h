@@ -27,8 +27,19 @@ public:
     /// Returns a new live id holding `fat` and `userData`; the proxy is not buffered.
     ProxyId Allocate(const Box& fat, void* userData);
 
-    /// Frees a live id. Its move-buffer entry, if any, is dropped lazily by TakeBuffer.
+    /// Frees a live id. Its move-buffer entry, if any, is dropped lazily by TakeBuffer. Allocates nothing after
+    /// ReserveFree().
     void Free(ProxyId id);
+
+    /// Room for one more freed id, so that the next Free allocates nothing (callers reserve before they change
+    /// anything, so std::bad_alloc leaves the broadphase as it was).
+    void ReserveFree()
+    {
+        if (m_freeList.size() == m_freeList.capacity())
+        {
+            m_freeList.reserve(std::max<size_t>(16, 2 * m_freeList.capacity()));
+        }
+    }
 
     /// True when `id` names a live proxy.
     bool IsLive(ProxyId id) const
@@ -51,6 +62,10 @@ public:
     /// Adds a live proxy to the move buffer unless it is already there.
     void Buffer(ProxyId id)
     {
+        if (m_moveBuffer.size() == m_moveBuffer.capacity())
+        {
+            m_moveBuffer.reserve(std::max<size_t>(16, 2 * m_moveBuffer.capacity())); // may throw: nothing changed yet
+        }
         if (MarkBuffered(id))
         {
             m_moveBuffer.push_back(id);

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "quadphase/box.h"
@@ -41,6 +42,16 @@ public:
 
     /// Lays the cells' entries out in cell order (see CellStore::Compact). Call after inserting many proxies.
     void Compact() { m_store.Compact(); }
+
+    /// Takes the contents of `built` (a pyramid filled from scratch) in place of this one's. The version still
+    /// increases, so walks across calls see the change. For rebuilds with the strong guarantee: a rebuild that
+    /// throws std::bad_alloc half way leaves this pyramid untouched.
+    void ReplaceWith(Pyramid&& built)
+    {
+        const uint64_t version = m_version;
+        *this = std::move(built);
+        m_version = version + 1;
+    }
 
     /// Replaces the stored box of `id`, moving it to another cell when the placement rule says so (within its
     /// level, its slot in the level's list is kept). Returns true when it changed cell.
@@ -136,14 +147,24 @@ public:
     std::string Validate() const;
 
 private:
+    // 12 bytes per proxy: the level and the outside flag share a word with the cell index (a pyramid of depth
+    // kMaxDepth has 22.4 million cells, under the 2^25 that 26 signed bits hold).
     struct Location
     {
-        int32_t cell = -1;      // index into m_store (all levels), -1 when not stored
+        Location()
+            : cell(-1), level(-1), outside(0)
+        {
+        }
+        int32_t cell : 26;      // index into m_store (all levels), -1 when not stored
+        int32_t level : 5;      // -1 when not stored
+        uint32_t outside : 1;
         int32_t slot = -1;      // index of the entry in that cell
         int32_t levelSlot = -1; // index in m_levelProxies[level]
-        int8_t level = -1;
-        bool outside = false;
     };
+    static_assert(sizeof(Location) == 12, "Location packs into three words");
+
+    void ReserveLevelSlot(int level);
+    void RemoveFromLevel(ProxyId id);
 
     int32_t CoordX(float x) const
     {

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "quadphase/box_mirror.h"
 #include "quadphase/broad_phase_interface.h"
 #include "quadphase/config.h"
 #include "quadphase/fat_policy.h"
@@ -59,7 +60,8 @@ public:
     /// Validate), serially. Why: Box2D moves its bodies one by one on one thread; queuing makes that serial part a
     /// store, and the fat-box tests run on all threads. A proxy queued twice before the queue is applied makes the
     /// second call apply the queue first (in order), so the outcome never depends on when it is applied. The queue
-    /// holds at most kQueueChunk moves: a full queue is applied (in parallel) by the QueueMove that fills it.
+    /// holds at most QueueLimit() moves (an eighth of the proxies, up to kQueueChunk): a full queue is applied (in
+    /// parallel when large) by the next QueueMove.
     void QueueMove(ProxyId id, const Box& tight, Vec2 displacement)
     {
         // Inline fast path (Box2D calls this once per moving fixture, on one thread); anything unusual (unknown
@@ -76,10 +78,7 @@ public:
             slot.displacement = displacement;
             slot.id = id;
             m_hasQueued.store(true, std::memory_order_release);
-            if (__builtin_expect(++m_queuedCount >= kQueueChunk, 0))
-            {
-                ApplyQueued(ChunkThreads()); // bounded memory, and the queue stays in cache
-            }
+            ++m_queuedCount; // when this fills the queue, the next move (QueueMoveSlow) applies or grows it
             return;
         }
         QueueMoveSlow(id, tight, displacement);
@@ -144,6 +143,12 @@ public:
         UpdateFastRoom();
     }
 
+    /// Copies every fat box this object changes from now on into `mirror` (see BoxMirror), and writes the current
+    /// fat box of every live proxy below its capacity now (after applying queued moves). A mirror with a null base
+    /// stops the copies. O(proxies).
+    void SetBoxMirror(const BoxMirror& mirror);
+    const BoxMirror& GetBoxMirror() const { return m_mirror; }
+
     /// Read-only access for drawing and tests. The fat boxes are those of the last applied move: queued moves
     /// (QueueMove) are not in them until ApplyQueuedMoves, FindPairs or a reading call applies them.
     const Pyramid& GetPyramid() const { return m_pyramid; }
@@ -164,6 +169,19 @@ private:
     // threads clearly less speed-up on particles 100k: every region costs a fork, a join and a cold queue), and a
     // bound on memory that does not grow with the world.
     static constexpr size_t kQueueChunk = 8192;
+    // The queue's capacity: an eighth of the live proxies, as a power of two from 64 to kQueueChunk. A queue sized
+    // to every moving proxy cost 28 bytes per proxy (particles 2000: a sixth of the broadphase's memory); below
+    // kApplyPerQuery x parallelThreshold moves a chunk is applied serially anyway, so smaller chunks cost only
+    // their fixed overhead (a few hundred ns each).
+    size_t QueueLimit() const
+    {
+        size_t limit = 64;
+        while (limit < kQueueChunk && limit < size_t(m_pool.LiveCount()) / 8)
+        {
+            limit *= 2;
+        }
+        return limit;
+    }
 
     // Config::threads == 0: parallel or serial, whichever was measured faster per unit of work (queued moves,
     // stale entries and buffered proxies) on recent calls. The other mode is re-measured every `probeEvery`
@@ -204,8 +222,11 @@ private:
     // Applies the queue: fat-box tests on `threads` threads, then (serially, in queue order) the stale list and the
     // move buffer. Requires exclusive access.
     void ApplyQueued(int threads);
+    void WriteMirrorOfAll();
     void Retune();
     void Rebuild(float originX, float originY, float side, int depth);
+    Pyramid BuildPyramid(float originX, float originY, float side, int depth, Vec2 shift) const;
+    void CommitRebuild(Pyramid&& built);
     bool NeedsRetune() const;
     void QueryPairsOf(ProxyId q, std::vector<Pair>& out) const;
     void UpdateStaleEntries();
@@ -217,7 +238,7 @@ private:
     ProxyPool m_pool;
     Pyramid m_pyramid;
     // QueueMove calls not applied yet, in call order, one per proxy at most: the first m_queuedCount slots. The
-    // vector's size is the queue's capacity (grown by QueueMoveSlow, up to kQueueChunk), so the fast path never
+    // vector's size is the queue's capacity (grown by QueueMoveSlow, up to QueueLimit()), so the fast path never
     // allocates.
     std::vector<QueuedMove> m_queued;
     size_t m_queuedCount = 0;
@@ -245,6 +266,7 @@ private:
     // RayCast compare it before and after their callbacks: unchanged means every collected candidate is still
     // what it was, so the re-entrancy checks cost nothing in the common case.
     uint64_t m_mutations = 0;
+    BoxMirror m_mirror; // see SetBoxMirror; disabled by default
     bool m_timing = false;
     mutable Stats m_counters;    // work counters only; shape fields are filled by GetStats
 };

@@ -1,0 +1,35 @@
+"""Medians, ratios and the two laws of parallel speed-up the reports use."""
+
+import math
+import statistics
+
+
+def med(values, empty=None):
+    """Median of the values that are not None (or NaN); `empty` when there are none."""
+    v = [x for x in values if x is not None and not (isinstance(x, float) and math.isnan(x))]
+    return statistics.median(v) if v else empty
+
+
+def ratio(a, b):
+    """a / b, or None when either is missing or zero."""
+    return a / b if a and b else None
+
+
+def round_ratios(num, den, field):
+    """Per-round ratios num/den of two lists of runs (dicts with "rep_round"): rounds pair up because every
+    round ran both."""
+    a = {(r["rep_round"], r.get("rep", 0)): r[field] for r in num if "rep_round" in r}
+    b = {(r["rep_round"], r.get("rep", 0)): r[field] for r in den if "rep_round" in r}
+    return [a[k] / b[k] for k in sorted(a) if k in b and b[k] > 0]
+
+
+def karp_flatt(speedup, p=2):
+    """Experimentally determined serial fraction: e = (1/S - 1/p) / (1 - 1/p)."""
+    if not speedup or speedup <= 0 or math.isnan(speedup):
+        return float("nan")
+    return (1.0 / speedup - 1.0 / p) / (1.0 - 1.0 / p)
+
+
+def amdahl(s, p):
+    s = min(max(s, 0.0), 1.0)
+    return 1.0 / (s + (1.0 - s) / p)

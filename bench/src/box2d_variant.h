@@ -1,0 +1,63 @@
+// For the tools compiled twice, against stock Box2D 2.4.1 and against Box2D with the quadtree
+// (quadphase_link_box2d_variant): the variant's name and the one quadphase setting they take from the command
+// line.
+#pragma once
+
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include "box2d/box2d.h"
+
+#if QUADPHASE_VARIANT_QUADPHASE
+#include "quadphase/box2d.h"
+constexpr const char* kVariant = "quadtree";
+constexpr bool kQuadtree = true;
+#elif QUADPHASE_VARIANT_STOCK
+constexpr const char* kVariant = "stock";
+constexpr bool kQuadtree = false;
+#else
+#error                                                                                                       \
+    "compile with QUADPHASE_VARIANT_QUADPHASE=1 or QUADPHASE_VARIANT_STOCK=1 (quadphase_link_box2d_variant)"
+#endif
+
+namespace qpbench
+{
+
+/// --threads: "default" leaves the adapter's Config as it is (Box2D's defaults: the quadtree follows
+/// OMP_NUM_THREADS); a number sets quadphase::Config::threads. The stock build is single-threaded: only 1 or
+/// "default". Returns false (after a message) for anything else.
+inline bool ApplyThreads(b2World& world, const std::string& value)
+{
+    if (value == "default")
+    {
+        return true;
+    }
+    char* end = nullptr;
+    const long threads = std::strtol(value.c_str(), &end, 10);
+    if (end == value.c_str() || *end != '\0' || threads < 0 || (!kQuadtree && threads != 1))
+    {
+        std::fprintf(stderr, "qp-%s: --threads must be %s, got '%s'\n", kVariant,
+                     kQuadtree ? "a count >= 0 or default" : "1 or default (stock is single-threaded)",
+                     value.c_str());
+        return false;
+    }
+#if QUADPHASE_VARIANT_QUADPHASE
+    quadphase::Config config = quadphase::GetConfig(world);
+    config.threads = int(threads);
+    quadphase::Configure(world, config);
+#else
+    (void)world;
+#endif
+    return true;
+}
+
+/// OMP_NUM_THREADS as a number (0 when unset): what the quadtree's default Config follows; the JSON lines say
+/// it.
+inline int OmpNumThreadsEnv()
+{
+    const char* v = std::getenv("OMP_NUM_THREADS");
+    return v != nullptr ? std::atoi(v) : 0;
+}
+
+} // namespace qpbench

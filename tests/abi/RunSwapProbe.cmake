@@ -1,0 +1,97 @@
+# cmake -P driver of abi_swap_probe_*: the binary swap, as a user does it with LD_LIBRARY_PATH.
+#   -DPROBE=<swap_probe built against stock headers and libbox2d.so.2>  -DSTOCK_LIB_DIR= -DQUADPHASE_LIB_DIR=
+#   -DNM=<nm>  -DINTERPOSING=0|1  -DWORK_DIR=<scratch>
+# 1. On the stock library: the probe must say "stock" and pass its inline checks.
+# 2. On quadphase's (LD_LIBRARY_PATH, QUADPHASE_VALIDATE=1, LD_BIND_NOW=1, LD_DEBUG=bindings): it must say
+#    "quadphase", pass its inline checks, give the same "sensors" lines (contacts at every step, query and ray-cast
+#    hashes, inline counts), and report 0 validation mismatches over more than 100 checked UpdatePairs.
+# 3. No function of quadphase's library may be bound to the probe's own copies (vtables and typeinfo are data,
+#    copy-relocated into executables by design). For the interposing build, the probe must really export copies of
+#    stock's inline b2BroadPhase functions, or step 3 would prove nothing.
+cmake_minimum_required(VERSION 3.20)
+file(REMOVE_RECURSE "${WORK_DIR}")
+file(MAKE_DIRECTORY "${WORK_DIR}")
+
+function(run_probe name libdir extra_env)
+    execute_process(
+        COMMAND "${CMAKE_COMMAND}" -E env "LD_LIBRARY_PATH=${libdir}" ${extra_env} "${PROBE}"
+        OUTPUT_VARIABLE out ERROR_VARIABLE err RESULT_VARIABLE rc)
+    file(WRITE "${WORK_DIR}/${name}.out" "${out}")
+    file(WRITE "${WORK_DIR}/${name}.err" "${err}")
+    if(NOT rc EQUAL 0)
+        message(FATAL_ERROR "probe on ${name} failed (${rc}):\n${out}\n${err}")
+    endif()
+    set(${name}_out "${out}" PARENT_SCOPE)
+    set(${name}_err "${err}" PARENT_SCOPE)
+endfunction()
+
+function(lines_matching out_var regex text)
+    string(REPLACE "\n" ";" lines "${text}")
+    list(FILTER lines INCLUDE REGEX "${regex}")
+    set(${out_var} "${lines}" PARENT_SCOPE)
+endfunction()
+
+run_probe(stock "${STOCK_LIB_DIR}" "")
+run_probe(quadphase "${QUADPHASE_LIB_DIR}"
+    "QUADPHASE_VALIDATE=1;LD_BIND_NOW=1;LD_DEBUG=bindings;LD_DEBUG_OUTPUT=${WORK_DIR}/bindings")
+
+lines_matching(stock_library "^library " "${stock_out}")
+lines_matching(quadphase_library "^library " "${quadphase_out}")
+message(STATUS "stock run:     ${stock_library}")
+message(STATUS "quadphase run: ${quadphase_library}")
+if(NOT stock_library MATCHES "^library ${STOCK_LIB_DIR}/libbox2d\\.so\\.2 stock$")
+    message(FATAL_ERROR "the first run did not run on the stock library: ${stock_library}")
+endif()
+if(NOT quadphase_library MATCHES "^library ${QUADPHASE_LIB_DIR}/libbox2d\\.so\\.2 quadphase$")
+    message(FATAL_ERROR "the second run did not run on quadphase's library: ${quadphase_library}")
+endif()
+
+lines_matching(stock_sensors "^sensors " "${stock_out}")
+lines_matching(quadphase_sensors "^sensors " "${quadphase_out}")
+list(LENGTH stock_sensors n)
+if(n LESS 30)
+    message(FATAL_ERROR "the probe printed only ${n} sensors lines")
+endif()
+if(NOT stock_sensors STREQUAL quadphase_sensors)
+    string(REPLACE ";" "\n" a "${stock_sensors}")
+    string(REPLACE ";" "\n" b "${quadphase_sensors}")
+    message(FATAL_ERROR "contacts, queries or inline reads differ between the libraries:\nstock:\n${a}\nquadphase:\n${b}")
+endif()
+message(STATUS "${n} sensors lines (contact sets per step, query and ray-cast hashes, inline reads) identical")
+
+if(NOT quadphase_err MATCHES "quadphase: validation: ([0-9]+) UpdatePairs checked, ([0-9]+) mismatches")
+    message(FATAL_ERROR "no validation summary from quadphase's library:\n${quadphase_err}")
+endif()
+set(checks "${CMAKE_MATCH_1}")
+set(mismatches "${CMAKE_MATCH_2}")
+message(STATUS "validation: ${checks} UpdatePairs checked, ${mismatches} mismatches")
+if(NOT mismatches EQUAL 0 OR checks LESS 100)
+    message(FATAL_ERROR "validation: ${checks} checks, ${mismatches} mismatches:\n${quadphase_err}")
+endif()
+
+# Bindings from quadphase's libbox2d into the probe executable.
+file(GLOB binding_files "${WORK_DIR}/bindings*")
+set(function_bindings "")
+foreach(f IN LISTS binding_files)
+    file(STRINGS "${f}" lines REGEX "binding file .*libbox2d\\.so\\.2 \\[0\\] to .*qp_abi_swap_probe")
+    foreach(line IN LISTS lines)
+        if(NOT line MATCHES "`_ZT[VIS]")
+            list(APPEND function_bindings "${line}")
+        endif()
+    endforeach()
+endforeach()
+if(function_bindings)
+    string(REPLACE ";" "\n" text "${function_bindings}")
+    message(FATAL_ERROR "quadphase's library calls the probe's own copies of functions (interposition):\n${text}")
+endif()
+if(INTERPOSING)
+    execute_process(COMMAND "${NM}" -D --defined-only "${PROBE}" OUTPUT_VARIABLE symbols RESULT_VARIABLE rc)
+    foreach(symbol IN ITEMS _ZNK12b2BroadPhase10GetFatAABBEi _ZNK12b2BroadPhase11TestOverlapEii
+                            _ZNK12b2BroadPhase11GetUserDataEi _ZNK12b2BroadPhase13GetTreeHeightEv)
+        if(NOT symbols MATCHES "${symbol}")
+            message(FATAL_ERROR "the interposing probe does not export ${symbol}: the test would prove nothing")
+        endif()
+    endforeach()
+    message(STATUS "the probe exports its own copies of stock's inline b2BroadPhase functions; none is called by the library")
+endif()
+message(STATUS "abi_swap_probe passed")

@@ -1,0 +1,339 @@
+// A Box2D 2.4.1 program that knows nothing of quadphase: compiled against stock Box2D's pristine headers and linked
+// to the stock shared library, then run again on quadphase's libbox2d.so.2 through LD_LIBRARY_PATH
+// (tests/abi/RunSwapProbe.cmake). It prints, line by line, what must not depend on the library:
+// - "library <path> <kind>": the libbox2d it runs on (dladdr of a Box2D function) and whether quadphase's symbols
+//   are in the process (dlsym), so a run proves which library it used;
+// - "sensors step N ...": the contact set after every step of a scene of sensors moving on fixed paths (their
+//   motion does not depend on the contacts, so both libraries must give the same contacts at every step), read
+//   through stock's inline b2World::GetContactList and GetContactCount;
+// - "sensors queries ...": QueryAABB and RayCast hits in that scene (sets, and the closest hit);
+// - a pile of boxes, whose contacts are not compared (the pair order steers the solver, so the two runs diverge):
+//   with QUADPHASE_VALIDATE=1 the quadphase run checks every UpdatePairs against a shadow tree instead;
+// - "inline ...": stock's inline b2BroadPhase functions compiled into this program (GetUserData, GetFatAABB,
+//   TestOverlap, GetProxyCount, GetTreeHeight) read valid values on either library.
+// Exit status 1 when an inline check fails. Built twice: as is, and with -O0 -fno-inline -rdynamic, which puts
+// out-of-line copies of stock's inline functions in the executable's dynamic symbol table (the interposition probe).
+#include <box2d/box2d.h>
+
+#include <dlfcn.h>
+
+#include <algorithm>
+#include <cinttypes>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <utility>
+#include <vector>
+
+namespace
+{
+
+int g_failures = 0;
+
+void Check(bool ok, const char* what, long detail)
+{
+    if (!ok)
+    {
+        if (++g_failures <= 20)
+        {
+            std::printf("inline check failed: %s (%ld)\n", what, detail);
+        }
+    }
+}
+
+// FNV-1a over a sequence of 64-bit values.
+struct Hash
+{
+    uint64_t value = 1469598103934665603ull;
+    void Add(uint64_t v)
+    {
+        for (int i = 0; i < 8; ++i)
+        {
+            value ^= (v >> (8 * i)) & 0xffu;
+            value *= 1099511628211ull;
+        }
+    }
+};
+
+uint64_t Index(b2Fixture* f)
+{
+    return static_cast<uint64_t>(f->GetUserData().pointer);
+}
+
+// The contact set, sorted: (fixture index A, fixture index B, touching), A < B.
+std::vector<std::pair<std::pair<uint64_t, uint64_t>, int> > Contacts(b2World& world)
+{
+    std::vector<std::pair<std::pair<uint64_t, uint64_t>, int> > out;
+    for (b2Contact* c = world.GetContactList(); c != nullptr; c = c->GetNext())
+    {
+        uint64_t a = Index(c->GetFixtureA());
+        uint64_t b = Index(c->GetFixtureB());
+        if (a > b)
+        {
+            std::swap(a, b);
+        }
+        out.push_back(std::make_pair(std::make_pair(a, b), c->IsTouching() ? 1 : 0));
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+void PrintContacts(const char* scene, int step, b2World& world)
+{
+    const std::vector<std::pair<std::pair<uint64_t, uint64_t>, int> > contacts = Contacts(world);
+    Hash h;
+    int touching = 0;
+    for (size_t i = 0; i < contacts.size(); ++i)
+    {
+        h.Add(contacts[i].first.first);
+        h.Add(contacts[i].first.second);
+        h.Add(uint64_t(contacts[i].second));
+        touching += contacts[i].second;
+    }
+    // GetContactCount is inline in b2_world.h: it reads b2ContactManager::m_contactCount at stock's offset.
+    std::printf("%s step %d contacts %d listed %zu touching %d hash %016" PRIx64 "\n", scene, step,
+                world.GetContactCount(), contacts.size(), touching, h.value);
+}
+
+// Stock's inline b2BroadPhase functions, compiled into this program, on every proxy of the world. A game cannot
+// reach b2Fixture's proxy ids (protected), but the broadphase's user data is the public b2FixtureProxy, so the ids
+// are found by asking GetUserData for ids from 0 up until every proxy has been seen (stock's tree numbers its inner
+// nodes among the proxies, with null user data; this world never destroys a proxy, so no id is stale).
+void CheckInline(const char* scene, b2World& world, bool containment = true)
+{
+    const b2BroadPhase& bp = world.GetContactManager().m_broadPhase;
+    int32 expected = 0;
+    for (b2Body* b = world.GetBodyList(); b != nullptr; b = b->GetNext())
+    {
+        for (b2Fixture* f = b->GetFixtureList(); f != nullptr; f = f->GetNext())
+        {
+            expected += f->GetShape()->GetChildCount();
+        }
+    }
+    Check(bp.GetProxyCount() == expected, "GetProxyCount counts the fixtures' children", bp.GetProxyCount());
+    Check(world.GetProxyCount() == expected, "b2World::GetProxyCount counts them", world.GetProxyCount());
+    std::vector<std::pair<std::pair<const b2Fixture*, int32>, int32> > idOf; // (fixture, child) -> proxy id
+    for (int32 id = 0; int32(idOf.size()) < expected && id < 4 * expected + 16; ++id)
+    {
+        const b2FixtureProxy* proxy = static_cast<const b2FixtureProxy*>(bp.GetUserData(id));
+        if (proxy == nullptr)
+        {
+            continue;
+        }
+        Check(proxy->proxyId == id, "GetUserData gives the proxy of that id", id);
+        const b2AABB& fat = bp.GetFatAABB(id);
+        // (b2World::ShiftOrigin leaves the fixture proxies' own AABBs of sleeping bodies unshifted until they move.)
+        Check(!containment || fat.Contains(proxy->aabb), "the fat AABB contains the fixture's AABB", id);
+        Check(bp.TestOverlap(id, id), "a fat AABB overlaps itself", id);
+        idOf.push_back(std::make_pair(std::make_pair(proxy->fixture, proxy->childIndex), id));
+    }
+    Check(int32(idOf.size()) == expected, "every proxy is found through GetUserData", long(idOf.size()));
+    std::sort(idOf.begin(), idOf.end());
+    const int32 height = bp.GetTreeHeight();
+    Check(height >= 0 && height < 64, "GetTreeHeight is a height", height);
+    // Contacts whose fixtures' fat AABBs overlap (the others are destroyed by the next Collide). Both libraries
+    // agree, since the fat AABBs are the same bits: printed, and compared across the two runs for the sensors.
+    int overlapping = 0;
+    for (b2Contact* c = world.GetContactList(); c != nullptr; c = c->GetNext())
+    {
+        const std::pair<const b2Fixture*, int32> ka(c->GetFixtureA(), c->GetChildIndexA());
+        const std::pair<const b2Fixture*, int32> kb(c->GetFixtureB(), c->GetChildIndexB());
+        std::vector<std::pair<std::pair<const b2Fixture*, int32>, int32> >::const_iterator a =
+            std::lower_bound(idOf.begin(), idOf.end(), std::make_pair(ka, int32(-1)));
+        std::vector<std::pair<std::pair<const b2Fixture*, int32>, int32> >::const_iterator b =
+            std::lower_bound(idOf.begin(), idOf.end(), std::make_pair(kb, int32(-1)));
+        if (a == idOf.end() || b == idOf.end() || a->first != ka || b->first != kb)
+        {
+            Check(false, "a contact's fixtures have proxies", 0);
+            continue;
+        }
+        overlapping += bp.TestOverlap(a->second, b->second) ? 1 : 0;
+    }
+    std::printf("%s inline proxies %d contacts whose fat AABBs overlap %d\n", scene, expected, overlapping);
+}
+
+struct QueryHits : b2QueryCallback
+{
+    std::vector<uint64_t> ids;
+    bool ReportFixture(b2Fixture* fixture) override
+    {
+        ids.push_back(Index(fixture));
+        return true;
+    }
+};
+
+struct RayHits : b2RayCastCallback
+{
+    bool closest = false;
+    std::vector<uint64_t> ids;
+    float fraction = 1.0f;
+    uint64_t closestId = ~uint64_t(0);
+    float ReportFixture(b2Fixture* fixture, const b2Vec2&, const b2Vec2&, float f) override
+    {
+        ids.push_back(Index(fixture));
+        if (f < fraction)
+        {
+            fraction = f;
+            closestId = Index(fixture);
+        }
+        return closest ? f : 1.0f;
+    }
+};
+
+b2Body* AddBody(b2World& world, b2BodyType type, float x, float y, uint64_t& next)
+{
+    b2BodyDef def;
+    def.type = type;
+    def.position.Set(x, y);
+    b2Body* body = world.CreateBody(&def);
+    (void)next;
+    return body;
+}
+
+void AddFixture(b2Body* body, const b2Shape& shape, bool sensor, uint64_t& next)
+{
+    b2FixtureDef fd;
+    fd.shape = &shape;
+    fd.density = 1.0f;
+    fd.isSensor = sensor;
+    fd.userData.pointer = uintptr_t(next++);
+    body->CreateFixture(&fd);
+}
+
+uint32_t g_rng = 12345u;
+float Uniform(float lo, float hi)
+{
+    g_rng = g_rng * 1664525u + 1013904223u;
+    return lo + (hi - lo) * float(g_rng >> 8) * (1.0f / 16777216.0f);
+}
+
+void SensorScene()
+{
+    b2World world(b2Vec2(0.0f, 0.0f));
+    uint64_t next = 0;
+    // Sensors on dynamic bodies with no gravity and no damping: each moves on a straight line whatever the
+    // contacts, so positions, fat AABBs and contacts must be the same on any correct broadphase at every step.
+    for (int i = 0; i < 600; ++i)
+    {
+        b2Body* body = AddBody(world, b2_dynamicBody, Uniform(-50.0f, 50.0f), Uniform(-50.0f, 50.0f), next);
+        body->SetLinearVelocity(b2Vec2(Uniform(-4.0f, 4.0f), Uniform(-4.0f, 4.0f)));
+        if (i % 3 == 0)
+        {
+            b2CircleShape circle;
+            circle.m_radius = Uniform(0.2f, 1.5f);
+            AddFixture(body, circle, true, next);
+        }
+        else
+        {
+            b2PolygonShape box;
+            box.SetAsBox(Uniform(0.2f, 1.0f), Uniform(0.2f, 1.0f));
+            AddFixture(body, box, true, next);
+        }
+    }
+    // A few static sensors, large and small.
+    for (int i = 0; i < 10; ++i)
+    {
+        b2Body* body = AddBody(world, b2_staticBody, Uniform(-40.0f, 40.0f), Uniform(-40.0f, 40.0f), next);
+        b2PolygonShape box;
+        box.SetAsBox(Uniform(1.0f, 12.0f), Uniform(0.5f, 3.0f));
+        AddFixture(body, box, true, next);
+    }
+    for (int step = 1; step <= 240; ++step)
+    {
+        world.Step(1.0f / 60.0f, 8, 3);
+        if (step % 10 == 0 || step <= 5)
+        {
+            PrintContacts("sensors", step, world);
+        }
+        if (step % 60 == 0)
+        {
+            CheckInline("sensors", world);
+            Hash q;
+            for (int i = 0; i < 50; ++i)
+            {
+                QueryHits hits;
+                b2AABB box;
+                box.lowerBound.Set(Uniform(-60.0f, 50.0f), Uniform(-60.0f, 50.0f));
+                box.upperBound = box.lowerBound + b2Vec2(Uniform(0.5f, 15.0f), Uniform(0.5f, 15.0f));
+                world.QueryAABB(&hits, box);
+                std::sort(hits.ids.begin(), hits.ids.end());
+                for (size_t k = 0; k < hits.ids.size(); ++k)
+                {
+                    q.Add(hits.ids[k]);
+                }
+                q.Add(~uint64_t(0));
+            }
+            for (int i = 0; i < 50; ++i)
+            {
+                RayHits all;
+                RayHits closest;
+                closest.closest = true;
+                const b2Vec2 p1(Uniform(-70.0f, 70.0f), Uniform(-70.0f, 70.0f));
+                const b2Vec2 p2(Uniform(-70.0f, 70.0f), Uniform(-70.0f, 70.0f));
+                world.RayCast(&all, p1, p2);
+                world.RayCast(&closest, p1, p2);
+                std::sort(all.ids.begin(), all.ids.end());
+                for (size_t k = 0; k < all.ids.size(); ++k)
+                {
+                    q.Add(all.ids[k]);
+                }
+                q.Add(closest.closestId);
+            }
+            std::printf("sensors queries step %d hash %016" PRIx64 "\n", step, q.value);
+        }
+    }
+}
+
+void PileScene()
+{
+    b2World world(b2Vec2(0.0f, -10.0f));
+    uint64_t next = 0;
+    b2Body* ground = AddBody(world, b2_staticBody, 0.0f, 0.0f, next);
+    b2EdgeShape edge;
+    edge.SetTwoSided(b2Vec2(-40.0f, 0.0f), b2Vec2(40.0f, 0.0f));
+    AddFixture(ground, edge, false, next);
+    for (int i = 0; i < 400; ++i)
+    {
+        b2Body* body = AddBody(world, b2_dynamicBody, -20.0f + 1.05f * float(i % 40), 0.6f + 1.05f * float(i / 40),
+                               next);
+        b2PolygonShape box;
+        box.SetAsBox(0.5f, 0.5f);
+        AddFixture(body, box, false, next);
+    }
+    for (int step = 1; step <= 300; ++step)
+    {
+        world.Step(1.0f / 60.0f, 8, 3);
+        if (step % 100 == 0)
+        {
+            CheckInline("pile", world);
+        }
+    }
+    // The world is shifted (b2World::ShiftOrigin, in the library) and the inline reads still hold.
+    world.ShiftOrigin(b2Vec2(10.0f, -5.0f));
+    world.Step(1.0f / 60.0f, 8, 3);
+    CheckInline("pile", world, false);
+}
+
+void PrintLibrary()
+{
+    Dl_info info;
+    const char* path = "?";
+    if (dladdr(reinterpret_cast<void*>(&b2Alloc_Default), &info) != 0 && info.dli_fname != nullptr)
+    {
+        path = info.dli_fname;
+    }
+    // quadphase::SetValidation(b2World&, bool): only quadphase's library defines it.
+    const bool quadphase = dlsym(RTLD_DEFAULT, "_ZN9quadphase13SetValidationER7b2Worldb") != nullptr;
+    std::printf("library %s %s\n", path, quadphase ? "quadphase" : "stock");
+}
+
+} // namespace
+
+int main()
+{
+    PrintLibrary();
+    SensorScene();
+    PileScene();
+    std::printf("inline failures %d\n", g_failures);
+    return g_failures == 0 ? 0 : 1;
+}
