@@ -1198,18 +1198,5 @@ private:
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 {
-    if (size == 0)
-    {
-        return 0;
-    }
-    static Scratch scratch;
-    const quadphase::ErrorHandler previous = quadphase::SetErrorHandler(&OnError);
-    Reader in(data, size);
-    {
-        Run run(in.Byte(), scratch);
-        run.Execute(in);
-    }
-    quadphase::SetErrorHandler(previous);
-    ++quadphase::fuzz::g_stats.inputs;
-    return 0;
+    return quadphase::fuzz::RunProgram<Run, Scratch>(data, size, &OnError);
 }

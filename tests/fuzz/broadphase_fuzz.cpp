@@ -605,18 +605,5 @@ private:
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 {
-    if (size == 0)
-    {
-        return 0;
-    }
-    static Scratch scratch;
-    const ErrorHandler previous = SetErrorHandler(&CountError);
-    Reader in(data, size);
-    {
-        Run run(in.Byte(), scratch);
-        run.Execute(in);
-    }
-    SetErrorHandler(previous);
-    ++fuzz::g_stats.inputs;
-    return 0;
+    return quadphase::fuzz::RunProgram<Run, Scratch>(data, size, &CountError);
 }

@@ -9,7 +9,9 @@
 #include <limits>
 #include <utility>
 
+#include "fuzz_stats.h"
 #include "quadphase/box.h"
+#include "quadphase/error.h"
 #include "quadphase/ray.h"
 
 namespace quadphase
@@ -154,6 +156,28 @@ inline RayInput ReadRay(Reader& in)
         ray.p2.x += 1.0f; // Box2D requires p1 != p2
     }
     return ray;
+}
+
+/// LLVMFuzzerTestOneInput's body for both targets: runs `data` as a program of `Run` (built from the first
+/// byte and a Scratch reused across inputs, so that no operation allocates once the buffers have grown) with
+/// `handler` as quadphase's error hook.
+template <typename Run, typename Scratch>
+int RunProgram(const uint8_t* data, size_t size, ErrorHandler handler)
+{
+    if (size == 0)
+    {
+        return 0;
+    }
+    static Scratch scratch;
+    const ErrorHandler previous = SetErrorHandler(handler);
+    Reader in(data, size);
+    {
+        Run run(in.Byte(), scratch);
+        run.Execute(in);
+    }
+    SetErrorHandler(previous);
+    ++g_stats.inputs;
+    return 0;
 }
 
 } // namespace fuzz

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "../core/segment_entry.h"
 #include "quadphase/box.h"
 #include "quadphase/ray.h"
 
@@ -24,16 +25,13 @@ namespace fuzz
 /// Largest coordinate magnitude for which the targets compare RayCast with the float test exactly.
 constexpr float kExactRayLimit = 65536.0f;
 
-/// True when the segment p1 -> p1 + maxFraction (p2 - p1), computed in double, crosses `box` shrunk on every
-/// side by 1e-5 of the largest magnitude involved (about 80 float ulps): far beyond any rounding of the float
-/// test.
+/// True when the segment p1 -> p1 + maxFraction (p2 - p1), computed in double (qptest::EntryFraction),
+/// crosses `box` shrunk on every side by 1e-5 of the largest magnitude involved (about 80 float ulps): far
+/// beyond any rounding of the float test.
 inline bool StrictlyCrosses(const Box& box, const RayInput& ray)
 {
-    const double p[2] = {double(ray.p1.x), double(ray.p1.y)};
-    const double d[2] = {double(ray.p2.x) - p[0], double(ray.p2.y) - p[1]};
-    double magnitude = 0.0;
-    for (double v : {p[0], p[1], double(ray.p2.x), double(ray.p2.y), double(box.minX), double(box.minY),
-                     double(box.maxX), double(box.maxY)})
+    float magnitude = 0.0f;
+    for (float v : {ray.p1.x, ray.p1.y, ray.p2.x, ray.p2.y, box.minX, box.minY, box.maxX, box.maxY})
     {
         magnitude = std::max(magnitude, std::fabs(v));
     }
@@ -41,39 +39,10 @@ inline bool StrictlyCrosses(const Box& box, const RayInput& ray)
     {
         return false;
     }
-    const double margin = 1.0e-5 * magnitude + 1.0e-6;
-    const double lo[2] = {double(box.minX) + margin, double(box.minY) + margin};
-    const double hi[2] = {double(box.maxX) - margin, double(box.maxY) - margin};
-    double t0 = 0.0;
-    double t1 = double(ray.maxFraction);
-    for (int i = 0; i < 2; ++i)
-    {
-        if (lo[i] > hi[i])
-        {
-            return false;
-        }
-        if (d[i] == 0.0)
-        {
-            if (p[i] < lo[i] || p[i] > hi[i])
-            {
-                return false;
-            }
-            continue;
-        }
-        double ta = (lo[i] - p[i]) / d[i];
-        double tb = (hi[i] - p[i]) / d[i];
-        if (ta > tb)
-        {
-            std::swap(ta, tb);
-        }
-        t0 = std::max(t0, ta);
-        t1 = std::min(t1, tb);
-        if (t0 > t1)
-        {
-            return false;
-        }
-    }
-    return true;
+    // The margin is far above a float ulp of the box, so computing the shrunk box in float changes nothing.
+    const float margin = 1.0e-5f * magnitude + 1.0e-6f;
+    const Box shrunk{box.minX + margin, box.minY + margin, box.maxX - margin, box.maxY - margin};
+    return IsOrdered(shrunk) && qptest::EntryFraction(ray, shrunk) >= 0.0;
 }
 
 } // namespace fuzz

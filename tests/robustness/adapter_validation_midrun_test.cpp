@@ -70,6 +70,17 @@ bool Reachable(float target)
     return false;
 }
 
+/// Validation ran `checks` UpdatePairs comparisons, compared pairs, and found (and reported) nothing.
+void CheckValidatedCleanly(const b2BroadPhase& bp, int64_t checks)
+{
+    const quadphase::ValidationReport report = quadphase::GetValidationReport(bp);
+    INFO(report.firstMismatch);
+    CHECK(report.mismatches == 0);
+    CHECK(report.checks == checks);
+    CHECK(report.pairsCompared > 0);
+    CHECK(g_reports == 0);
+}
+
 } // namespace
 
 TEST_CASE("b2BroadPhase: validation switched on mid-run over fat AABBs b2DynamicTree cannot reproduce",
@@ -124,12 +135,7 @@ TEST_CASE("b2BroadPhase: validation switched on mid-run over fat AABBs b2Dynamic
     PairLog last;
     bp.UpdatePairs(&last);
     CHECK(last.pairs.count({1, 2}) == 1);
-    const quadphase::ValidationReport report = quadphase::GetValidationReport(bp);
-    INFO(report.firstMismatch);
-    CHECK(report.mismatches == 0);
-    CHECK(report.checks == 5);
-    CHECK(report.pairsCompared > 0);
-    CHECK(g_reports == 0);
+    CheckValidatedCleanly(bp, 5);
 }
 
 TEST_CASE("b2BroadPhase: validation switched on after ShiftOrigin", "[validation]")
@@ -173,12 +179,7 @@ TEST_CASE("b2BroadPhase: validation switched on after ShiftOrigin", "[validation
             PairLog log;
             bp.UpdatePairs(&log);
         }
-        const quadphase::ValidationReport report = quadphase::GetValidationReport(bp);
-        INFO(report.firstMismatch);
-        CHECK(report.mismatches == 0);
-        CHECK(report.checks == 3);
-        CHECK(report.pairsCompared > 0);
-        CHECK(g_reports == 0);
+        CheckValidatedCleanly(bp, 3);
         return;
     }
     FAIL("no origin shift gave a fat bound b2DynamicTree cannot reproduce");
