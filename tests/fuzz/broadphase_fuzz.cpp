@@ -112,7 +112,7 @@ float EntryFraction(const Box& box, const RayInput& input)
 /// Reused across inputs: no allocation per operation once the buffers have grown.
 struct Scratch
 {
-    std::vector<Pair> quadtreePairs, referencePairs, sorted;
+    std::vector<Pair> quadtreePairs, referencePairs;
     std::vector<ProxyId> quadtreeIds, referenceIds, firstIds;
 };
 
@@ -367,13 +367,13 @@ private:
         g_errors = 0;
     }
 
-    void SaneOnly(std::vector<Pair>& pairs) const
+    /// Drops the pairs of proxies whose last box was bad; the order is kept.
+    void DropInsane(std::vector<Pair>& pairs) const
     {
         pairs.erase(std::remove_if(pairs.begin(), pairs.end(),
                                    [this](const Pair& p)
                                    { return !m_sane[size_t(p.a)] || !m_sane[size_t(p.b)]; }),
                     pairs.end());
-        std::sort(pairs.begin(), pairs.end());
     }
 
     void SaneOnly(std::vector<ProxyId>& ids) const
@@ -391,22 +391,21 @@ private:
         r.clear();
         m_qt.FindPairs(a);
         m_bf.FindPairs(r);
-        std::vector<Pair>& all = m_s.sorted;
-        all.assign(a.begin(), a.end());
-        std::sort(all.begin(), all.end());
-        if (std::adjacent_find(all.begin(), all.end()) != all.end())
+        std::sort(a.begin(), a.end());
+        if (std::adjacent_find(a.begin(), a.end()) != a.end())
         {
             Diverge("FindPairs: a pair reported twice", long(a.size()), long(r.size()), m_op);
         }
-        for (const Pair& p : all)
+        for (const Pair& p : a)
         {
             if (!(p.a < p.b) || !IsLive(p.a) || !IsLive(p.b))
             {
                 Diverge("FindPairs: pair not ordered or not live", p.a, p.b, m_op);
             }
         }
-        SaneOnly(a);
-        SaneOnly(r);
+        DropInsane(a); // keeps the order
+        DropInsane(r);
+        std::sort(r.begin(), r.end());
         if (a != r)
         {
             Diverge("FindPairs: pair sets (sane proxies)", long(a.size()), long(r.size()), m_op);
