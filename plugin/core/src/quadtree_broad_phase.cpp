@@ -871,7 +871,9 @@ void QuadtreeBroadPhase::RayCast(const RayInput& input, RayCastFn fn, void* cont
         {
             const Entry& e = batch[i];
             ApplyQueuedIfAny(); // a callback's QueueMove: see Query
-            if (m_mutations == collected)
+            // A callback's move leaves the proxy's entry stale (old box) until the next FindPairs or query, and a
+            // batch collected after that callback holds the stale box: test the pool's box then.
+            if (m_mutations == collected && !m_pool.IsStale(e.id))
             {
                 if (!segment.MayCross(e.box)) // the segment may have been clipped since the entry was collected
                 {
