@@ -15,6 +15,7 @@
 #include "quadphase/ray.h"
 #include "quadphase/row_major.h"
 
+#include "segment_entry.h"
 #include "test_support.h"
 
 namespace qptest
@@ -36,42 +37,6 @@ using quadphase::SegmentTest;
             FAIL(#cond << "\n" << message);                                                                  \
         }                                                                                                    \
     } while (false)
-
-/// Entry fraction of the segment p1 -> p1 + maxFraction (p2 - p1) into box b (slab test in double), or -1
-/// when it misses.
-inline double EntryFraction(const RayInput& in, const Box& b)
-{
-    double tmin = 0.0;
-    double tmax = double(in.maxFraction);
-    const double p[2] = {double(in.p1.x), double(in.p1.y)};
-    const double d[2] = {double(in.p2.x) - double(in.p1.x), double(in.p2.y) - double(in.p1.y)};
-    const double lo[2] = {double(b.minX), double(b.minY)};
-    const double hi[2] = {double(b.maxX), double(b.maxY)};
-    for (int axis = 0; axis < 2; ++axis)
-    {
-        if (d[axis] == 0.0)
-        {
-            if (p[axis] < lo[axis] || p[axis] > hi[axis])
-            {
-                return -1.0;
-            }
-            continue;
-        }
-        double t1 = (lo[axis] - p[axis]) / d[axis];
-        double t2 = (hi[axis] - p[axis]) / d[axis];
-        if (t1 > t2)
-        {
-            std::swap(t1, t2);
-        }
-        tmin = std::max(tmin, t1);
-        tmax = std::min(tmax, t2);
-        if (tmin > tmax)
-        {
-            return -1.0;
-        }
-    }
-    return tmin;
-}
 
 struct RayCollector
 {

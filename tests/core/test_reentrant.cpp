@@ -5,7 +5,8 @@
 // - a proxy destroyed during the call is never reported after its destruction;
 // - proxies created or moved during the call may or may not be reported;
 // - no id is reported twice in one call.
-// Under AddressSanitizer (scripts/sanitize.sh) these also check that no callback makes the walk read freed memory.
+// Under AddressSanitizer (scripts/sanitize.sh) these also check that no callback makes the walk read freed
+// memory.
 #include <algorithm>
 #include <atomic>
 #include <set>
@@ -33,10 +34,7 @@ Box SmallBoxAt(float x, float y, float half)
 // A broadphase plus what the test knows of it: which ids are live and whose boxes changed during a call.
 struct World
 {
-    explicit World(uint32_t seed, const Config& config = Config{})
-        : rng(seed), qt(FatPolicy{}, config)
-    {
-    }
+    explicit World(uint32_t seed, const Config& config = Config{}) : rng(seed), qt(FatPolicy{}, config) {}
 
     ProxyId Create(const Box& b)
     {
@@ -75,7 +73,7 @@ struct CallRecord
     int deadReported = 0;      // reports of ids that were not live at the time
     int actions = 0;
     float worldSize = 100.0f;
-    Box near{};                // where created proxies go, so that some of them overlap the query
+    Box near{}; // where created proxies go, so that some of them overlap the query
 
     // One random call back into the broadphase.
     void Act()
@@ -86,15 +84,15 @@ struct CallRecord
         if (roll < 30)
         {
             // spawn debris, half of it where the query looks; many at once sometimes (a re-tune on doubling)
-            // (the doubling is capped: unchecked, a few doublings per call would grow the world without bound)
+            // (the doubling is capped: unchecked, a few doublings per call would grow the world without
+            // bound)
             const bool doubling = w.live.size() < 1500 && Chance(w.rng, 0.05);
             const int n = doubling ? int(w.live.size()) + 10 : UniformInt(w.rng, 1, 2);
             for (int i = 0; i < n; ++i)
             {
-                const Box b = Chance(w.rng, 0.5)
-                                  ? SmallBoxAt(Uniform(w.rng, near.minX, near.maxX), Uniform(w.rng, near.minY, near.maxY),
-                                               0.3f)
-                                  : w.RandomBox(worldSize);
+                const Box b = Chance(w.rng, 0.5) ? SmallBoxAt(Uniform(w.rng, near.minX, near.maxX),
+                                                              Uniform(w.rng, near.minY, near.maxY), 0.3f)
+                                                 : w.RandomBox(worldSize);
                 touched.insert(w.Create(b));
             }
         }
@@ -136,8 +134,8 @@ bool QueryCallback(void* context, ProxyId id)
 {
     CallRecord& call = *static_cast<CallRecord*>(context);
     call.Record(id);
-    // Up to 40 actions a call: enough to change the world under the walk many times, without letting the world
-    // grow with the number of reports.
+    // Up to 40 actions a call: enough to change the world under the walk many times, without letting the
+    // world grow with the number of reports.
     if (call.actions < 40 && Chance(call.world->rng, 0.5))
     {
         call.Act();
@@ -149,8 +147,8 @@ float RayCallback(void* context, const RayInput&, ProxyId id)
 {
     CallRecord& call = *static_cast<CallRecord*>(context);
     call.Record(id);
-    // Up to 40 actions a call: enough to change the world under the walk many times, without letting the world
-    // grow with the number of reports.
+    // Up to 40 actions a call: enough to change the world under the walk many times, without letting the
+    // world grow with the number of reports.
     if (call.actions < 40 && Chance(call.world->rng, 0.5))
     {
         call.Act();
@@ -158,7 +156,8 @@ float RayCallback(void* context, const RayInput&, ProxyId id)
     return -1.0f; // all hits, no clipping
 }
 
-// The proxies that existed before the call, were not touched during it, and must therefore have been reported.
+// The proxies that existed before the call, were not touched during it, and must therefore have been
+// reported.
 void CheckUntouchedReported(const CallRecord& call, const std::vector<ProxyId>& expectedBefore)
 {
     std::set<ProxyId> reported(call.reported.begin(), call.reported.end());
@@ -271,6 +270,116 @@ TEST_CASE("RayCast callbacks may create, destroy and move proxies", "[raycast][r
     REQUIRE(actions > 1000);
 }
 
+// Found by the Box2D-level fuzzer (tests/fuzz/box2d_fuzz.cpp, regression input
+// tests/fuzz/regressions/box2d/reentrant-queued-move-reported-where-it-was): b2BroadPhase::MoveProxy queues
+// the move (QueueMove), which changed no fat box before the queue was applied, so a proxy a callback moved
+// away was still reported where it had been.
+TEST_CASE("A proxy a callback moves through QueueMove is reported only where it now is",
+          "[query][raycast][reentrant]")
+{
+    QuadtreeBroadPhase qt;
+    const ProxyId first = qt.CreateProxy(Box{0.0f, 0.0f, 1.0f, 1.0f}, nullptr);
+    const ProxyId second = qt.CreateProxy(Box{2.0f, 0.0f, 3.0f, 1.0f}, nullptr);
+    std::vector<Pair> pairs;
+    qt.FindPairs(pairs);
+    const Box away{50.0f, 50.0f, 51.0f, 51.0f};
+    struct Mover
+    {
+        QuadtreeBroadPhase* qt;
+        ProxyId reported[2] = {-1, -1};
+        int count = 0;
+        Box to;
+        void Report(ProxyId id)
+        {
+            reported[count++] = id;
+            if (count == 1)
+            {
+                // move the other one away; its QueueMove is not applied yet
+                const ProxyId other = id == 0 ? 1 : 0;
+                qt->QueueMove(other, to, Vec2{0.0f, 0.0f});
+            }
+        }
+        static bool Query(void* context, ProxyId id)
+        {
+            static_cast<Mover*>(context)->Report(id);
+            return true;
+        }
+        static float Ray(void* context, const RayInput&, ProxyId id)
+        {
+            static_cast<Mover*>(context)->Report(id);
+            return -1.0f;
+        }
+    };
+    SECTION("Query")
+    {
+        Mover m{&qt, {-1, -1}, 0, away};
+        qt.Query(Box{-1.0f, -1.0f, 4.0f, 2.0f}, &Mover::Query, &m);
+        CHECK(m.count == 1); // was 2: the moved proxy reported at its old box
+    }
+    SECTION("RayCast")
+    {
+        Mover m{&qt, {-1, -1}, 0, away};
+        qt.RayCast(RayInput{{-1.0f, 0.5f}, {4.0f, 0.5f}, 1.0f}, &Mover::Ray, &m);
+        CHECK(m.count == 1);
+    }
+    CHECK(Overlaps(qt.GetFatBox(first), away) != Overlaps(qt.GetFatBox(second), away));
+    REQUIRE(qt.Validate() == "");
+}
+
+// Found by the Box2D-level fuzzer (regression input tests/fuzz/regressions/box2d/
+// reentrant-ray-moved-proxy-in-a-later-batch): RayCast collects a batch of entries per level (or row) after
+// the previous batch's callbacks, and an entry a callback's move left stale still held the old box, which the
+// walk trusted when nothing changed between that collection and the report.
+TEST_CASE("RayCast: a proxy a callback moves, met in a later batch, is reported only where it now is",
+          "[raycast][reentrant]")
+{
+    for (const bool queued : {false, true})
+    {
+        INFO((queued ? "QueueMove" : "MoveProxy"));
+        Config config;
+        config.depth = 4;
+        config.autoBounds = false;
+        config.bounds = Box{-64.0f, -64.0f, 64.0f, 64.0f};
+        QuadtreeBroadPhase qt(FatPolicy{}, config);
+        const ProxyId big = qt.CreateProxy(Box{-40.0f, -10.0f, -20.0f, 10.0f}, nullptr); // a coarse level
+        const ProxyId small = qt.CreateProxy(Box{20.0f, -0.5f, 21.0f, 0.5f}, nullptr);   // the finest level
+        std::vector<Pair> pairs;
+        qt.FindPairs(pairs);
+        REQUIRE(qt.GetPyramid().Depth() == 4);
+        struct Mover
+        {
+            QuadtreeBroadPhase* qt;
+            ProxyId small;
+            bool queued;
+            std::vector<ProxyId> reported;
+            static float Ray(void* context, const RayInput&, ProxyId id)
+            {
+                auto* self = static_cast<Mover*>(context);
+                self->reported.push_back(id);
+                if (self->reported.size() == 1 && id != self->small)
+                {
+                    const Box away{20.0f, 40.0f, 21.0f, 41.0f}; // off the ray
+                    if (self->queued)
+                    {
+                        self->qt->QueueMove(self->small, away, Vec2{0.0f, 0.0f});
+                    }
+                    else
+                    {
+                        self->qt->MoveProxy(self->small, away, Vec2{0.0f, 0.0f});
+                    }
+                }
+                return -1.0f;
+            }
+        };
+        Mover m{&qt, small, queued, {}};
+        qt.RayCast(RayInput{{-60.0f, 0.0f}, {60.0f, 0.0f}, 1.0f}, &Mover::Ray, &m);
+        REQUIRE(!m.reported.empty());
+        CHECK(m.reported.front() == big); // the coarse level's batch comes first
+        CHECK(m.reported.size() == 1);    // was 2: the small proxy reported at its old box
+        REQUIRE(qt.Validate() == "");
+    }
+}
+
 TEST_CASE("A callback that rebuilds the pyramid mid-ray: the walk starts again and reports no id twice",
           "[raycast][reentrant]")
 {
@@ -378,8 +487,8 @@ TEST_CASE("Queries after a mass teleport bring the entries up to date once inste
 
 TEST_CASE("GetStats beside concurrent const calls that apply queued moves", "[parallel][stats]")
 {
-    // Run under ThreadSanitizer by scripts/race-check.sh ("[parallel]"): GetStats takes the lock under which a
-    // concurrent Query applies the queue, so neither reads what the other writes.
+    // Run under ThreadSanitizer by scripts/race-check.sh ("[parallel]"): GetStats takes the lock under which
+    // a concurrent Query applies the queue, so neither reads what the other writes.
     World w(5u);
     std::vector<ProxyId> ids;
     for (int i = 0; i < 4000; ++i)
@@ -399,14 +508,17 @@ TEST_CASE("GetStats beside concurrent const calls that apply queued moves", "[pa
         }
         const QuadtreeBroadPhase& reader = w.qt;
         std::atomic<int64_t> found{0};
-        std::thread querying([&] {
-            for (int i = 0; i < 50; ++i)
+        std::thread querying(
+            [&]
             {
-                IdCollector c;
-                reader.Query(Box{float(i), float(i), float(i) + 20.0f, float(i) + 20.0f}, &IdCollector::Callback, &c);
-                found += int64_t(c.ids.size());
-            }
-        });
+                for (int i = 0; i < 50; ++i)
+                {
+                    IdCollector c;
+                    reader.Query(Box{float(i), float(i), float(i) + 20.0f, float(i) + 20.0f},
+                                 &IdCollector::Callback, &c);
+                    found += int64_t(c.ids.size());
+                }
+            });
         int64_t proxies = 0;
         for (int i = 0; i < 50; ++i)
         {

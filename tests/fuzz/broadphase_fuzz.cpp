@@ -1,67 +1,55 @@
 // libFuzzer target: random call sequences on QuadtreeBroadPhase, each answer checked against
 // BruteForceBroadPhase.
 //
-// The input is a byte string read as a program. Byte 0 picks the quadtree's Config (fixed or automatic depth,
-// fixed or automatic bounds, 1 or 2 threads, parallel pair generation from 2 buffered proxies or the
-// default). Then each operation is one opcode byte and its operands: create, move, destroy, touch (ids
-// include unknown and destroyed ones), update pairs, query (full, and stopped after the first hit), ray cast,
-// shift origin, and a check of every fat box, TestOverlap and the quadtree's own Validate(). Boxes come in
-// several scales (0.01 m to 1e6 m from the origin, zero-size boxes) and sometimes bad (NaN, infinite,
-// inverted). A short input is a valid program: reading past the end yields zeros and ends the run.
+// The input is a byte string read as a program (tests/fuzz/fuzz_input.h). Byte 0 picks the quadtree's Config
+// (fixed or automatic depth, fixed or automatic bounds; a quarter of the inputs at 2 threads, half of those
+// with parallel pair generation from 2 buffered proxies). Then each operation is one opcode byte and its
+// operands: create, move (MoveProxy, or QueueMove applied later), destroy, touch (ids include unknown and
+// destroyed ones), update pairs, query (full, and stopped after the first hit), ray cast (all hits, stopped
+// after the first, and closest hit with the callback clipping the ray), shift origin, and a check of every
+// fat box, TestOverlap and the quadtree's own Validate(). Boxes come in several scales (0.01 m to 1e6 m from
+// the origin, zero-size boxes) and sometimes bad (NaN, infinite, inverted). A short input is a valid program:
+// reading past the end yields zeros and ends the run.
 //
 // What must hold (else the target prints the divergence and aborts, which libFuzzer reports as a crash):
 // - same ids, same MoveProxy answers, bit-identical fat boxes, same GetProxyCount;
 // - same pairs (as sets) from FindPairs, none repeated and all with a < b, leaving out proxies whose last box
 // was
 //   bad (the quadtree documents that those pair with nothing; the brute force does not filter them);
-// - same Query and RayCast candidate sets among the sane proxies;
-// - each bad box and each unknown id reported exactly once through the error hook by the quadtree call.
+// - same Query and RayCast candidate sets among the sane proxies, and the same closest hit (fraction, and a
+//   proxy hit at that fraction) when the callback clips the ray;
+// - each unknown id reported exactly once through the error hook by the quadtree call, and a bad box once per
+//   proxy life (the first bad box a proxy gets; see quadphase/error.h).
+// Speed (scripts/fuzz.sh --target core): everything an operation needs is O(1) or proportional to the answer
+// except the reference itself and Validate(); buffers are reused across inputs.
 // Built as a fuzzer with scripts/fuzz.sh (clang-14, -fsanitize=fuzzer,address,undefined); replayed over the
 // committed corpus by fuzz_replay_main.cpp in every normal test run.
 #include <algorithm>
-#include <cinttypes>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <limits>
+#include <string>
+#include <utility>
 #include <vector>
 
+#include "fuzz_input.h"
+#include "fuzz_stats.h"
 #include "quadphase/brute_force_broad_phase.h"
 #include "quadphase/error.h"
 #include "quadphase/quadtree_broad_phase.h"
 #include "quadphase/ray.h"
+#include "strict_segment.h"
 
 using namespace quadphase;
+using quadphase::fuzz::Reader;
 
 namespace
 {
 
 constexpr int kMaxOps = 3000;
 constexpr int kMaxLive = 1500;
-
-class Reader
-{
-public:
-    Reader(const uint8_t* data, size_t size) : m_data(data), m_size(size) {}
-    bool Done() const { return m_pos >= m_size; }
-    uint8_t Byte() { return m_pos < m_size ? m_data[m_pos++] : 0; }
-    uint16_t U16()
-    {
-        const uint16_t lo = Byte();
-        return uint16_t(lo | (uint16_t(Byte()) << 8));
-    }
-    /// In [-1, 1].
-    float Signed() { return float(int(U16()) - 32768) / 32768.0f; }
-    /// In [0, 1].
-    float Unit() { return float(U16()) / 65535.0f; }
-
-private:
-    const uint8_t* m_data;
-    size_t m_size;
-    size_t m_pos = 0;
-};
 
 int g_errors = 0;
 void CountError(ErrorCode, const char*, void*)
@@ -82,28 +70,103 @@ bool SameBoxBits(const Box& a, const Box& b)
     return std::memcmp(&a, &b, sizeof(Box)) == 0;
 }
 
+/// Box2D 2.4.1's b2AABB::RayCast (slab test, same arithmetic): the fraction at which the segment enters
+/// `box`, or -1 when it misses, starts inside, or enters beyond input.maxFraction.
+float EntryFraction(const Box& box, const RayInput& input)
+{
+    float tmin = -3.402823466e+38f;
+    float tmax = 3.402823466e+38f;
+    const float p[2] = {input.p1.x, input.p1.y};
+    const float d[2] = {input.p2.x - input.p1.x, input.p2.y - input.p1.y};
+    const float lower[2] = {box.minX, box.minY};
+    const float upper[2] = {box.maxX, box.maxY};
+    for (int i = 0; i < 2; ++i)
+    {
+        if (std::fabs(d[i]) < 1.1920928955078125e-07f)
+        {
+            if (p[i] < lower[i] || upper[i] < p[i])
+            {
+                return -1.0f;
+            }
+        }
+        else
+        {
+            const float inv = 1.0f / d[i];
+            float t1 = (lower[i] - p[i]) * inv;
+            float t2 = (upper[i] - p[i]) * inv;
+            if (t1 > t2)
+            {
+                std::swap(t1, t2);
+            }
+            tmin = std::max(tmin, t1);
+            tmax = std::min(tmax, t2);
+            if (tmin > tmax)
+            {
+                return -1.0f;
+            }
+        }
+    }
+    return (tmin < 0.0f || input.maxFraction < tmin) ? -1.0f : tmin;
+}
+
+/// Reused across inputs: no allocation per operation once the buffers have grown.
+struct Scratch
+{
+    std::vector<Pair> quadtreePairs, referencePairs;
+    std::vector<ProxyId> quadtreeIds, referenceIds, firstIds;
+};
+
 struct Collector
 {
-    std::vector<ProxyId> ids;
+    std::vector<ProxyId>* ids;
     int limit = -1; // stop after this many (Query) or return 0 after this many (RayCast); -1: never
     static bool Query(void* context, ProxyId id)
     {
         auto* self = static_cast<Collector*>(context);
-        self->ids.push_back(id);
-        return self->limit < 0 || int(self->ids.size()) < self->limit;
+        self->ids->push_back(id);
+        return self->limit < 0 || int(self->ids->size()) < self->limit;
     }
     static float Ray(void* context, const RayInput&, ProxyId id)
     {
         auto* self = static_cast<Collector*>(context);
-        self->ids.push_back(id);
-        return (self->limit < 0 || int(self->ids.size()) < self->limit) ? -1.0f : 0.0f;
+        self->ids->push_back(id);
+        return (self->limit < 0 || int(self->ids->size()) < self->limit) ? -1.0f : 0.0f;
+    }
+};
+
+/// Closest-hit ray cast: a proxy is hit where the segment enters its tight box (strictly inside its fat box),
+/// and the callback clips the ray there, as b2World::RayCast's closest-hit callbacks do.
+struct ClosestHit
+{
+    const std::vector<Box>* tight; // by id
+    const std::vector<bool>* sane; // by id
+    float fraction = 2.0f;         // none yet
+    ProxyId id = -1;
+    static float Ray(void* context, const RayInput& input, ProxyId id)
+    {
+        auto* self = static_cast<ClosestHit*>(context);
+        if (!(*self->sane)[size_t(id)])
+        {
+            return -1.0f;
+        }
+        const float f = EntryFraction((*self->tight)[size_t(id)], input);
+        if (f < 0.0f)
+        {
+            return -1.0f;
+        }
+        if (f < self->fraction || (f == self->fraction && id < self->id))
+        {
+            self->fraction = f;
+            self->id = id;
+        }
+        return f;
     }
 };
 
 class Run
 {
 public:
-    explicit Run(uint8_t configByte) : m_qt(FatPolicy{}, MakeConfig(configByte)) {}
+    Run(uint8_t configByte, Scratch& scratch) : m_qt(FatPolicy{}, MakeConfig(configByte)), m_s(scratch) {}
 
     void Execute(Reader& in)
     {
@@ -148,6 +211,7 @@ public:
         }
         FindPairs();
         CheckAll();
+        fuzz::g_stats.operations += m_op;
     }
 
 private:
@@ -157,51 +221,14 @@ private:
         c.depth = int(b % 8) - 1; // automatic, or 0..6
         c.autoBounds = ((b >> 3) & 1) == 0;
         c.bounds = Box{-64.0f, -64.0f, 64.0f, 64.0f};
-        c.threads = 1 + ((b >> 4) & 1);
-        c.parallelThreshold = ((b >> 5) & 1) != 0 ? 2 : 128;
+        // A quarter of the inputs at 2 threads (parallel regions cost a wake-up of the other thread each, the
+        // largest cost of an input), half of those with the parallel paths taken from 2 buffered proxies.
+        c.threads = ((b >> 4) & 3) == 3 ? 2 : 1;
+        c.parallelThreshold = ((b >> 6) & 1) != 0 ? 2 : 128;
         return c;
     }
 
-    /// A tight box; `sane` tells whether it is finite and ordered.
-    Box ReadBox(Reader& in, bool& sane)
-    {
-        const uint8_t mode = in.Byte();
-        const float scales[] = {8.0f, 64.0f, 1000.0f, 1.0e5f, 1.0e6f, 0.5f};
-        const float centreScale = scales[(mode >> 4) % 6];
-        const float cx = in.Signed() * centreScale;
-        const float cy = in.Signed() * centreScale;
-        float hx = in.Unit() * ((mode & 1) != 0 ? 20.0f : 2.0f);
-        float hy = in.Unit() * ((mode & 2) != 0 ? 20.0f : 2.0f);
-        if ((mode & 12) == 12)
-        {
-            hx = 0.0f; // zero-size (on one axis or both)
-            hy = (mode & 64) != 0 ? 0.0f : hy;
-        }
-        Box b{cx - hx, cy - hy, cx + hx, cy + hy};
-        sane = true;
-        if (mode == 0xff || mode == 0xfe) // bad boxes: about one in a hundred
-        {
-            const float nan = std::numeric_limits<float>::quiet_NaN();
-            const float inf = std::numeric_limits<float>::infinity();
-            switch (in.Byte() % 4)
-            {
-            case 0:
-                b.minX = nan;
-                break;
-            case 1:
-                b.maxY = inf;
-                break;
-            case 2:
-                b = Box{-inf, -inf, inf, inf};
-                break;
-            default:
-                b = Box{b.maxX + 1.0f, b.minY, b.minX, b.maxY}; // inverted on x
-                break;
-            }
-            sane = false;
-        }
-        return b;
-    }
+    Box ReadBox(Reader& in, bool& sane) { return fuzz::ReadBox(in, true, sane); }
 
     ProxyId ReadId(Reader& in)
     {
@@ -213,7 +240,10 @@ private:
         return m_live[size_t(v) % m_live.size()];
     }
 
-    bool IsLive(ProxyId id) const { return std::find(m_live.begin(), m_live.end(), id) != m_live.end(); }
+    bool IsLive(ProxyId id) const
+    {
+        return id >= 0 && size_t(id) < m_index.size() && m_index[size_t(id)] >= 0;
+    }
 
     void Expect(int reports, const char* call)
     {
@@ -241,8 +271,12 @@ private:
         {
             Diverge("CreateProxy: ids", a, r, m_op);
         }
+        Track(a);
+        m_index[size_t(a)] = int32_t(m_live.size());
         m_live.push_back(a);
-        SetSane(a, sane);
+        m_sane[size_t(a)] = sane;
+        m_tight[size_t(a)] = b;
+        m_badReported[size_t(a)] = !sane;
         CompareFat(a, "CreateProxy: fat box");
     }
 
@@ -252,10 +286,13 @@ private:
         bool sane = true;
         Box b = ReadBox(in, sane);
         Vec2 d{in.Signed() * 4.0f, in.Signed() * 4.0f};
-        if (IsLive(id) && (in.Byte() & 1) != 0 && m_sane[size_t(id)] && sane)
+        const uint8_t flags = in.Byte();
+        const bool live = IsLive(id);
+        if (live && (flags & 1) != 0 && m_sane[size_t(id)] && sane)
         {
-            // a small move of the current box: often stays inside the fat box
-            const Box& f = m_qt.GetFatBox(id);
+            // a small move of the current box: often stays inside the fat box. The reference's box, so that
+            // queued moves stay queued.
+            const Box& f = m_bf.GetFatBox(id);
             d = Vec2{d.x * 0.01f, d.y * 0.01f};
             b = Box{f.minX + 0.1f + d.x, f.minY + 0.1f + d.y, f.maxX - 0.1f + d.x, f.maxY - 0.1f + d.y};
             if (!IsOrdered(b))
@@ -263,20 +300,35 @@ private:
                 b = Box{b.minX, b.minY, b.minX, b.minY};
             }
         }
-        const bool live = IsLive(id);
+        const bool reportBad = live && !sane && !m_badReported[size_t(id)];
+        const bool queue = (flags & 2) != 0;
         g_errors = 0;
-        const bool a = m_qt.MoveProxy(id, b, d);
-        Expect((live ? 0 : 1) + (live && !sane ? 1 : 0), "MoveProxy: error reports");
+        bool a = false;
+        if (queue)
+        {
+            m_qt.QueueMove(id, b, d); // applied by the next call that reads a fat box or the pairs
+        }
+        else
+        {
+            a = m_qt.MoveProxy(id, b, d);
+        }
+        Expect((live ? 0 : 1) + (reportBad ? 1 : 0),
+               queue ? "QueueMove: error reports" : "MoveProxy: error reports");
         const bool r = m_bf.MoveProxy(id, b, d);
         g_errors = 0;
-        if (a != r)
+        if (!queue && a != r)
         {
             Diverge("MoveProxy: answer", a, r, m_op);
         }
         if (live)
         {
-            SetSane(id, sane);
-            CompareFat(id, "MoveProxy: fat box");
+            m_badReported[size_t(id)] = m_badReported[size_t(id)] || reportBad;
+            m_sane[size_t(id)] = sane;
+            m_tight[size_t(id)] = b;
+            if (!queue)
+            {
+                CompareFat(id, "MoveProxy: fat box");
+            }
         }
     }
 
@@ -291,7 +343,12 @@ private:
         g_errors = 0;
         if (live)
         {
-            m_live.erase(std::find(m_live.begin(), m_live.end(), id));
+            // swap-remove: O(1)
+            const int32_t slot = m_index[size_t(id)];
+            m_live[size_t(slot)] = m_live.back();
+            m_index[size_t(m_live[size_t(slot)])] = slot;
+            m_live.pop_back();
+            m_index[size_t(id)] = -1;
         }
         if (m_qt.GetProxyCount() != m_bf.GetProxyCount() || m_qt.GetProxyCount() != int32_t(m_live.size()))
         {
@@ -310,49 +367,49 @@ private:
         g_errors = 0;
     }
 
-    std::vector<Pair> SaneOnly(std::vector<Pair> pairs) const
+    /// Drops the pairs of proxies whose last box was bad; the order is kept.
+    void DropInsane(std::vector<Pair>& pairs) const
     {
         pairs.erase(std::remove_if(pairs.begin(), pairs.end(),
                                    [this](const Pair& p)
                                    { return !m_sane[size_t(p.a)] || !m_sane[size_t(p.b)]; }),
                     pairs.end());
-        std::sort(pairs.begin(), pairs.end());
-        return pairs;
     }
 
-    std::vector<ProxyId> SaneOnly(std::vector<ProxyId> ids) const
+    void SaneOnly(std::vector<ProxyId>& ids) const
     {
         ids.erase(std::remove_if(ids.begin(), ids.end(), [this](ProxyId id) { return !m_sane[size_t(id)]; }),
                   ids.end());
         std::sort(ids.begin(), ids.end());
-        return ids;
     }
 
     void FindPairs()
     {
-        std::vector<Pair> a, r;
+        std::vector<Pair>& a = m_s.quadtreePairs;
+        std::vector<Pair>& r = m_s.referencePairs;
+        a.clear();
+        r.clear();
         m_qt.FindPairs(a);
         m_bf.FindPairs(r);
-        std::vector<Pair> all = a;
-        std::sort(all.begin(), all.end());
-        if (std::adjacent_find(all.begin(), all.end()) != all.end())
+        std::sort(a.begin(), a.end());
+        if (std::adjacent_find(a.begin(), a.end()) != a.end())
         {
             Diverge("FindPairs: a pair reported twice", long(a.size()), long(r.size()), m_op);
         }
-        for (const Pair& p : all)
+        for (const Pair& p : a)
         {
             if (!(p.a < p.b) || !IsLive(p.a) || !IsLive(p.b))
             {
                 Diverge("FindPairs: pair not ordered or not live", p.a, p.b, m_op);
             }
         }
-        const std::vector<Pair> sa = SaneOnly(a);
-        const std::vector<Pair> sr = SaneOnly(r);
-        if (sa != sr)
+        DropInsane(a); // keeps the order
+        DropInsane(r);
+        std::sort(r.begin(), r.end());
+        if (a != r)
         {
-            Diverge("FindPairs: pair sets (sane proxies)", long(sa.size()), long(sr.size()), m_op);
+            Diverge("FindPairs: pair sets (sane proxies)", long(a.size()), long(r.size()), m_op);
         }
-        m_pairsCompared += int64_t(sr.size());
     }
 
     Box ReadQueryBox(Reader& in)
@@ -369,50 +426,102 @@ private:
     void Query(Reader& in)
     {
         const Box box = ReadQueryBox(in);
-        Collector a, r;
+        m_s.quadtreeIds.clear();
+        m_s.referenceIds.clear();
+        Collector a{&m_s.quadtreeIds}, r{&m_s.referenceIds};
         m_qt.Query(box, &Collector::Query, &a);
         m_bf.Query(box, &Collector::Query, &r);
-        if (SaneOnly(a.ids) != SaneOnly(r.ids))
+        const bool any = !a.ids->empty();
+        SaneOnly(*a.ids);
+        SaneOnly(*r.ids);
+        if (*a.ids != *r.ids)
         {
-            Diverge("Query: candidate sets (sane proxies)", long(a.ids.size()), long(r.ids.size()), m_op);
+            Diverge("Query: candidate sets (sane proxies)", long(a.ids->size()), long(r.ids->size()), m_op);
         }
         // stopped after the first candidate: one call, and only when there is a candidate
-        Collector first;
-        first.limit = 1;
+        m_s.firstIds.clear();
+        Collector first{&m_s.firstIds, 1};
         m_qt.Query(box, &Collector::Query, &first);
-        if (first.ids.size() != (a.ids.empty() ? 0u : 1u))
+        if (first.ids->size() != (any ? 1u : 0u))
         {
-            Diverge("Query: stop after the first candidate", long(first.ids.size()), long(a.ids.size()),
-                    m_op);
+            Diverge("Query: stop after the first candidate", long(first.ids->size()), long(any), m_op);
         }
     }
 
     void RayCast(Reader& in)
     {
-        const uint8_t mode = in.Byte();
-        const float scale = (mode & 1) != 0 ? 1000.0f : 64.0f;
-        RayInput ray{{in.Signed() * scale, in.Signed() * scale},
-                     {in.Signed() * scale, in.Signed() * scale},
-                     in.Unit() * 1.5f};
-        if (ray.p1.x == ray.p2.x && ray.p1.y == ray.p2.y)
-        {
-            ray.p2.x += 1.0f; // Box2D requires p1 != p2
-        }
-        Collector a, r;
+        const RayInput ray = fuzz::ReadRay(in);
+        m_s.quadtreeIds.clear();
+        m_s.referenceIds.clear();
+        Collector a{&m_s.quadtreeIds}, r{&m_s.referenceIds};
         m_qt.RayCast(ray, &Collector::Ray, &a);
         m_bf.RayCast(ray, &Collector::Ray, &r);
-        if (SaneOnly(a.ids) != SaneOnly(r.ids))
+        const bool any = !a.ids->empty();
+        SaneOnly(*a.ids);
+        SaneOnly(*r.ids);
+        const bool exact = Bounded();
+        if (exact ? *a.ids != *r.ids
+                  : !(std::includes(r.ids->begin(), r.ids->end(), a.ids->begin(), a.ids->end()) &&
+                      StrictlyCrossedReported(ray, *a.ids)))
         {
-            Diverge("RayCast: candidate sets (sane proxies)", long(a.ids.size()), long(r.ids.size()), m_op);
+            Diverge(exact
+                        ? "RayCast: candidate sets (sane proxies)"
+                        : "RayCast beyond the exact range: a crossed proxy missed or a rejected one reported",
+                    long(a.ids->size()), long(r.ids->size()), m_op);
         }
-        Collector first;
-        first.limit = 1;
+        m_s.firstIds.clear();
+        Collector first{&m_s.firstIds, 1};
         m_qt.RayCast(ray, &Collector::Ray, &first);
-        if (first.ids.size() != (a.ids.empty() ? 0u : 1u))
+        if (first.ids->size() != (any ? 1u : 0u))
         {
-            Diverge("RayCast: stop after the first candidate", long(first.ids.size()), long(a.ids.size()),
-                    m_op);
+            Diverge("RayCast: stop after the first candidate", long(first.ids->size()), long(any), m_op);
         }
+        // Closest hit: the clipped walk must find the same nearest entry as the reference's full scan. Ties
+        // (two tight boxes entered at the same fraction) may resolve to either proxy: the one reported must
+        // be hit at that fraction.
+        ClosestHit qc{&m_tight, &m_sane}, rc{&m_tight, &m_sane};
+        m_qt.RayCast(ray, &ClosestHit::Ray, &qc);
+        m_bf.RayCast(ray, &ClosestHit::Ray, &rc);
+        if (exact &&
+            qc.fraction != rc.fraction) // beyond the exact range the walk's order decides (strict_segment.h)
+        {
+            Diverge("RayCast: closest hit (proxy)", qc.id, rc.id, m_op);
+        }
+        if (qc.id >= 0 && EntryFraction(m_tight[size_t(qc.id)], ray) != qc.fraction)
+        {
+            Diverge("RayCast: closest hit not hit at its fraction", qc.id, rc.id, m_op);
+        }
+    }
+
+    /// True when every sane live fat box lies within fuzz::kExactRayLimit of the origin (the rays always do):
+    /// RayCast is then compared with the brute force exactly (strict_segment.h).
+    bool Bounded() const
+    {
+        const float limit = fuzz::kExactRayLimit;
+        for (ProxyId id : m_live)
+        {
+            const Box& b = m_bf.GetFatBox(id);
+            if (m_sane[size_t(id)] && !(std::fabs(b.minX) <= limit && std::fabs(b.minY) <= limit &&
+                                        std::fabs(b.maxX) <= limit && std::fabs(b.maxY) <= limit))
+            {
+                return false;
+            }
+        }
+        return true;
+    }
+
+    /// Every sane live proxy the segment crosses with a margin is among `reported` (sorted).
+    bool StrictlyCrossedReported(const RayInput& ray, const std::vector<ProxyId>& reported) const
+    {
+        for (ProxyId id : m_live)
+        {
+            if (m_sane[size_t(id)] && fuzz::StrictlyCrosses(m_bf.GetFatBox(id), ray) &&
+                !std::binary_search(reported.begin(), reported.end(), id))
+            {
+                return false;
+            }
+        }
+        return true;
     }
 
     void ShiftOrigin(Reader& in)
@@ -421,6 +530,11 @@ private:
         const Vec2 origin{in.Signed() * scale, in.Signed() * scale};
         m_qt.ShiftOrigin(origin);
         m_bf.ShiftOrigin(origin);
+        for (ProxyId id : m_live)
+        {
+            Box& t = m_tight[size_t(id)];
+            t = Box{t.minX - origin.x, t.minY - origin.y, t.maxX - origin.x, t.maxY - origin.y};
+        }
         CheckAll();
     }
 
@@ -447,6 +561,7 @@ private:
             Diverge("GetProxyCount", m_qt.GetProxyCount(), m_bf.GetProxyCount(), m_op);
         }
         const std::string problem = m_qt.Validate();
+        ++fuzz::g_stats.validations;
         if (!problem.empty())
         {
             std::fprintf(stderr, "broadphase_fuzz: Validate: %s\n", problem.c_str());
@@ -462,35 +577,32 @@ private:
         }
     }
 
-    void SetSane(ProxyId id, bool sane)
+    void Track(ProxyId id)
     {
-        if (size_t(id) >= m_sane.size())
+        if (size_t(id) >= m_index.size())
         {
-            m_sane.resize(size_t(id) + 1, true);
+            const size_t n = size_t(id) + 1;
+            m_index.resize(n, -1);
+            m_sane.resize(n, true);
+            m_badReported.resize(n, false);
+            m_tight.resize(n, Box{0.0f, 0.0f, 0.0f, 0.0f});
         }
-        m_sane[size_t(id)] = sane;
     }
 
     QuadtreeBroadPhase m_qt;
     BruteForceBroadPhase m_bf;
-    std::vector<ProxyId> m_live;
-    std::vector<bool> m_sane; // by id: the last box given was finite and ordered
+    Scratch& m_s;
+    std::vector<ProxyId> m_live;     // live ids, in no particular order
+    std::vector<int32_t> m_index;    // by id: slot in m_live, or -1 when not live
+    std::vector<bool> m_sane;        // by id: the last box given was finite and ordered
+    std::vector<bool> m_badReported; // by id: a bad box was reported in this proxy's life (once per life)
+    std::vector<Box> m_tight;        // by id: the last tight box given (the closest-hit callback's shape)
     int m_op = 0;
-    int64_t m_pairsCompared = 0;
 };
 
 } // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 {
-    if (size == 0)
-    {
-        return 0;
-    }
-    const ErrorHandler previous = SetErrorHandler(&CountError);
-    Reader in(data, size);
-    Run run(in.Byte());
-    run.Execute(in);
-    SetErrorHandler(previous);
-    return 0;
+    return quadphase::fuzz::RunProgram<Run, Scratch>(data, size, &CountError);
 }

@@ -71,11 +71,16 @@ ShadowValidator::ShadowValidator(const QuadtreeBroadPhase& core)
         exact = Preimage(fat.minY, r, -1.0f, tight.lowerBound.y) && exact;
         exact = Preimage(fat.maxX, r, 1.0f, tight.upperBound.x) && exact;
         exact = Preimage(fat.maxY, r, 1.0f, tight.upperBound.y) && exact;
-        if (!exact)
+        // A fat AABB that a move's displacement or ShiftOrigin produced may have no tight AABB that
+        // b2DynamicTree::CreateProxy fattens to it (fl(t - 0.1) skips every other float below a power of two).
+        // Such a proxy is seeded one float off and left out of the comparisons until a move gives both trees the
+        // same bits again: not a mismatch, since the quadtree is right (issue 17's Box2D-level fuzzer).
+        AddShadow(id, tight);
+        SetInexact(id, !exact);
+        if (exact)
         {
-            Mismatch("cannot seed the shadow tree with proxy " + Describe(id) + " exactly");
+            CompareFat(id, "seed");
         }
-        OnCreate(id, tight);
     }
     // Proxies already waiting in the quadtree's move buffer are not in the shadow's; the buffers agree again after
     // the next UpdatePairs, so that one is not compared.
@@ -84,6 +89,20 @@ ShadowValidator::ShadowValidator(const QuadtreeBroadPhase& core)
         m_report.checks = -1;
     }
     m_buffer.clear();
+}
+
+void ShadowValidator::SetInexact(ProxyId id, bool inexact)
+{
+    if (size_t(id) >= m_inexact.size())
+    {
+        m_inexact.resize(size_t(id) + 1, 0);
+    }
+    m_inexact[size_t(id)] = inexact ? 1 : 0;
+}
+
+bool ShadowValidator::IsInexact(ProxyId id) const
+{
+    return id >= 0 && size_t(id) < m_inexact.size() && m_inexact[size_t(id)] != 0;
 }
 
 std::string ShadowValidator::Describe(ProxyId id) const
@@ -109,6 +128,16 @@ void ShadowValidator::CompareFat(ProxyId id, const char* call)
 {
     const b2AABB& shadow = m_tree.GetFatAABB(m_shadowOf[size_t(id)]);
     const Box& ours = m_core.GetPool().Fat(id);
+    const bool same =
+        SameBits(ours, Box{shadow.lowerBound.x, shadow.lowerBound.y, shadow.upperBound.x, shadow.upperBound.y});
+    if (IsInexact(id))
+    {
+        if (same)
+        {
+            m_exactAgain.push_back(id); // compared again from the next UpdatePairs on
+        }
+        return;
+    }
     if (!SameBits(ours, Box{shadow.lowerBound.x, shadow.lowerBound.y, shadow.upperBound.x, shadow.upperBound.y}) &&
         IsFinite(ours))
     {
@@ -116,7 +145,7 @@ void ShadowValidator::CompareFat(ProxyId id, const char* call)
     }
 }
 
-void ShadowValidator::OnCreate(ProxyId id, const b2AABB& aabb)
+void ShadowValidator::AddShadow(ProxyId id, const b2AABB& aabb)
 {
     if (size_t(id) >= m_shadowOf.size())
     {
@@ -124,6 +153,12 @@ void ShadowValidator::OnCreate(ProxyId id, const b2AABB& aabb)
     }
     m_shadowOf[size_t(id)] = m_tree.CreateProxy(aabb, reinterpret_cast<void*>(intptr_t(id)));
     m_buffer.push_back(id);
+}
+
+void ShadowValidator::OnCreate(ProxyId id, const b2AABB& aabb)
+{
+    AddShadow(id, aabb);
+    SetInexact(id, false);
     CompareFat(id, "CreateProxy");
 }
 
@@ -195,6 +230,19 @@ void ShadowValidator::OnUpdatePairs(const std::vector<Pair>& reported)
     m_actual = reported;
     std::sort(m_actual.begin(), m_actual.end());
     const bool duplicates = std::adjacent_find(m_actual.begin(), m_actual.end()) != m_actual.end();
+    // Pairs of a proxy seeded inexactly are not compared (see the constructor); the flags of those whose fat AABBs
+    // agree again are cleared only now, since this call's move buffers were decided with the old bits.
+    if (!m_inexact.empty())
+    {
+        const auto inexact = [this](const Pair& p) { return IsInexact(p.a) || IsInexact(p.b); };
+        m_expected.erase(std::remove_if(m_expected.begin(), m_expected.end(), inexact), m_expected.end());
+        m_actual.erase(std::remove_if(m_actual.begin(), m_actual.end(), inexact), m_actual.end());
+    }
+    for (ProxyId id : m_exactAgain)
+    {
+        SetInexact(id, false);
+    }
+    m_exactAgain.clear();
 
     if (++m_report.checks <= 0)
     {

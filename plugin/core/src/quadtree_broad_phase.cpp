@@ -721,6 +721,9 @@ void QuadtreeBroadPhase::Query(const Box& box, QueryFn fn, void* context) const
     for (size_t i = 0; i < hits.size(); ++i)
     {
         const ProxyId id = hits[i];
+        // A callback's QueueMove (b2BroadPhase::MoveProxy) changes no fat box until the queue is applied: apply it
+        // now, so that the test below sees where a moved proxy is (one atomic load when nothing is queued).
+        ApplyQueuedIfAny();
         // After a callback changed something, a candidate is reported only while it is live and its current box
         // still overlaps: a destroyed proxy is never reported after its destruction (its id may even have been
         // reused), and a moved one is reported only where it now is.
@@ -893,7 +896,10 @@ void QuadtreeBroadPhase::RayCast(const RayInput& input, RayCastFn fn, void* cont
         for (size_t i = 0; i < batch.size(); ++i)
         {
             const Entry& e = batch[i];
-            if (m_mutations == collected)
+            ApplyQueuedIfAny(); // a callback's QueueMove: see Query
+            // A callback's move leaves the proxy's entry stale (old box) until the next FindPairs or query, and a
+            // batch collected after that callback holds the stale box: test the pool's box then.
+            if (m_mutations == collected && !m_pool.IsStale(e.id))
             {
                 if (!segment.MayCross(e.box)) // the segment may have been clipped since the entry was collected
                 {

@@ -31,7 +31,9 @@ class ShadowValidator
 {
 public:
     /// Starts validating `core`. Applies its queued moves, then copies the proxies that already exist into the
-    /// shadow tree with the exact fat AABBs the quadtree stores.
+    /// shadow tree with the exact fat AABBs the quadtree stores. A fat AABB that b2DynamicTree::CreateProxy cannot
+    /// reproduce bit for bit (after a move's displacement or ShiftOrigin) is seeded one float off, and its proxy is
+    /// left out of the comparisons until a move gives both trees the same bits.
     explicit ShadowValidator(const QuadtreeBroadPhase& core);
 
     void OnCreate(ProxyId id, const b2AABB& aabb);
@@ -50,6 +52,9 @@ public:
     bool QueryCallback(int32 shadowId);
 
 private:
+    void AddShadow(ProxyId id, const b2AABB& aabb);
+    void SetInexact(ProxyId id, bool inexact);
+    bool IsInexact(ProxyId id) const;
     void Mismatch(const std::string& what);
     void CompareFat(ProxyId id, const char* call);
     std::string Describe(ProxyId id) const;
@@ -59,6 +64,10 @@ private:
     std::vector<int32> m_shadowOf; // quadtree id -> shadow id, -1 when none
     std::vector<ProxyId> m_buffer; // quadtree ids, stock b2BroadPhase move-buffer semantics
     std::vector<ProxyId> m_moved;  // quadtree ids moved since the last check: their fat AABBs are compared then
+    // By quadtree id: seeded (validation switched on mid-run) with a fat AABB b2DynamicTree cannot reproduce bit
+    // for bit; left out of the comparisons until a move gives both trees the same bits (m_exactAgain).
+    std::vector<uint8_t> m_inexact;
+    std::vector<ProxyId> m_exactAgain;
     std::vector<Pair> m_expected;
     std::vector<Pair> m_actual;
     ProxyId m_queryId = -1;
