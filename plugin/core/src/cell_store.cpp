@@ -75,8 +75,9 @@ void CellStore::Compact()
     {
         total += c.size == 0 ? 0 : size_t(1) << ClassFor(c.size);
     }
-    std::vector<Entry> entries;
-    entries.reserve(total);
+    // Sized once, then filled block by block (growing it per cell cost a call per cell on every rebuild).
+    std::vector<Entry> entries(total);
+    uint32_t begin = 0;
     for (Cell& c : m_cells)
     {
         if (c.size == 0)
@@ -85,12 +86,11 @@ void CellStore::Compact()
             c.sizeClass = kNoBlock;
             continue;
         }
-        const uint32_t begin = uint32_t(entries.size());
         const uint32_t sizeClass = ClassFor(c.size);
-        entries.insert(entries.end(), m_entries.begin() + c.begin, m_entries.begin() + c.begin + c.size);
-        entries.resize(begin + (size_t(1) << sizeClass));
+        std::copy_n(m_entries.begin() + c.begin, c.size, entries.begin() + begin);
         c.begin = begin;
         c.sizeClass = sizeClass;
+        begin += uint32_t(1) << sizeClass;
     }
     m_entries.swap(entries);
     std::fill(std::begin(m_freeHead), std::end(m_freeHead), kNone);
@@ -103,19 +103,22 @@ int64_t CellStore::MemoryBytes() const
 
 std::string CellStore::Validate() const
 {
-    // Mark every slot owned by a cell or a free block; an overlap or an out-of-range block is a violation.
+    // Mark every slot owned by a cell or a free block; an overlap or an out-of-range block is a violation. The
+    // owner's name is built only for a message: Validate() runs after every check of the fuzz targets, and a string
+    // per occupied cell was a tenth of their time.
     std::vector<uint8_t> owned(m_entries.size(), 0);
-    auto claim = [&](uint32_t begin, uint32_t sizeClass, const std::string& who) -> std::string {
+    auto claim = [&](uint32_t begin, uint32_t sizeClass, const char* kind, size_t which) -> std::string {
         const size_t end = size_t(begin) + (size_t(1) << sizeClass);
         if (end > m_entries.size())
         {
-            return who + " has a block past the end of the array";
+            return kind + std::to_string(which) + " has a block past the end of the array";
         }
         for (size_t i = begin; i < end; ++i)
         {
             if (owned[i]++ != 0)
             {
-                return who + " has a block overlapping another one at slot " + std::to_string(i);
+                return kind + std::to_string(which) + " has a block overlapping another one at slot " +
+                       std::to_string(i);
             }
         }
         return {};
@@ -135,7 +138,7 @@ std::string CellStore::Validate() const
         {
             return "cell " + std::to_string(i) + " holds more entries than its block";
         }
-        const std::string problem = claim(c.begin, c.sizeClass, "cell " + std::to_string(i));
+        std::string problem = claim(c.begin, c.sizeClass, "cell ", i);
         if (!problem.empty())
         {
             return problem;
@@ -150,7 +153,7 @@ std::string CellStore::Validate() const
             {
                 return "free list " + std::to_string(k) + " is broken";
             }
-            const std::string problem = claim(b, k, "free list " + std::to_string(k));
+            std::string problem = claim(b, k, "free list ", k);
             if (!problem.empty())
             {
                 return problem;
