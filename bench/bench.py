@@ -62,6 +62,7 @@ NATIVE_PEERS = ["cp-hash-native-x2", "cp-hash-native-x4", "cp-tree-native", "bt-
 PEERS = PROTOCOL_PEERS + NATIVE_PEERS
 REPLAY_ENGINES = ["stock", "quadtree-1t", "quadtree-2t", "oracle", "paper"] + PEERS + ["brute", "null"]
 HEADLINE_ENGINES = ["stock", "quadtree-1t", "quadtree-2t"]  # what further optimisation levels replay
+QUADTREES = HEADLINE_ENGINES[1:]  # quadphase at 1 and 2 threads
 PHASE_ENGINES = HEADLINE_ENGINES + ["oracle"]
 EXACT_ENGINES = ["quadtree-1t", "quadtree-2t", "oracle", "brute"] + PEERS
 OPTIONAL = {"cp-": "cp-hash", "bt-": "bt-dbvt"}  # engine prefix -> the word qp-replay --help lists when built
@@ -92,9 +93,8 @@ QUERY_GOALS = {"ray_diag_all": 2.0, "ray_diag_closest": 2.0, "teleport": 2.0}  #
 CIRCLES = {
     "quick": [("pairwise", 1, None), ("paper", 1, None), ("stock", 1, None), ("quadtree", 1, None),
               ("quadtree", 2, None)],
-    "full": ([("pairwise", 1, None), ("stock", 1, None)]
-             + [("paper", t, d) for t in (1, 2) for d in (4, 5, 6, 7, 8, 9, None)]
-             + [("quadtree", t, d) for t in (1, 2) for d in (4, 5, 6, 7, 8, 9, None)]),
+    "full": [("pairwise", 1, None), ("stock", 1, None)] + [(e, t, d) for e in ("paper", "quadtree") for t in (1, 2)
+                                                          for d in (4, 5, 6, 7, 8, 9, None)],
 }
 REFERENCE = {"circles_stock": 52000, "circles_brute": 6200, "replay_stock_particles50k": 490,
              "replay_stock_rain64k": 510, "step_bp_stock_particles10k": 3.3, "step_bp_stock_particles50k": 43.9}
@@ -104,7 +104,8 @@ TOOLS = ("qp-record", "qp-replay", "qp-step-stock", "qp-step-quadtree",
 
 def parse_args():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--full", action="store_true", help="full profile (~30 min on 2 cores per level); default quick")
+    ap.add_argument("--full", action="store_true",
+                    help="full profile (-O2 and -O3: about 90 min on 2 cores); default quick")
     ap.add_argument("--build-dir", default=os.path.join(os.path.dirname(HERE), "build-bench"))
     ap.add_argument("--builds", default=None, help="optimisation levels and their build directories, "
                     "LEVEL=DIR,LEVEL=DIR (bench/run.sh --opt sets it); default: --build-dir alone")
@@ -152,10 +153,8 @@ def step_units(runner, args):
     units = []
     for scene, lo, hi, default in (l.split() for l in runner.run("qp-step-stock", "--list")[1].splitlines()):
         lo, hi, default = int(lo), int(hi), int(default)
-        sizes = STEP_SIZES[args.profile].get(scene) or [default] + ([4 * default] if args.full else [])
-        for size in sizes:
-            size = min(hi, max(lo, scaled(size, args, lo)))
-            units += [("step", scene, size, b, t) for b, t in STEP_ENGINES]
+        for size in STEP_SIZES[args.profile].get(scene) or [default] + ([4 * default] if args.full else []):
+            units += [("step", scene, min(hi, max(lo, scaled(size, args, lo))), b, t) for b, t in STEP_ENGINES]
     return list(dict.fromkeys(units))
 
 
@@ -164,20 +163,11 @@ def phase_units(args):
             for b, t in STEP_ENGINES]
 
 
-def run_unit(runner, args, unit, rnd):
-    kind, scene, size, build, omp = unit[:5]
-    warmup, steps = (0, unit[5]) if kind == "phases" else ((40, 40) if args.full else (20, 20))
-    runner.run(f"qp-step-{build}", "--scene", scene, "--size", size, "--seed", args.seed, "--warmup", warmup,
-               "--steps", steps, "--threads", "default", "--ccd", args.ccd, "--json", runner.jsonl,
-               "--label", f"{kind} r{rnd}", *(["--per-step"] if kind == "phases" else []),
-               env={"OMP_NUM_THREADS": str(omp)})
-
-
 def replay_argv(engine, trace, extra):
     if engine.startswith("quadtree"):
         return ["--trace", trace, "--threads", 1 if engine == "quadtree-1t" else 2] + extra
-    return ["--trace", trace, "--engine", engine] + extra + (["--max-proxies", BRUTE_MAX_PROXIES] if engine == "brute"
-                                                             else [])
+    return (["--trace", trace, "--engine", engine] + extra
+            + (["--max-proxies", BRUTE_MAX_PROXIES] if engine == "brute" else []))
 
 
 def replay_engines(trace, available):
@@ -187,8 +177,7 @@ def replay_engines(trace, available):
 
 
 def query_argv(args, runner, label):
-    q = {k: scaled(v, args) for k, v in QUERY_ARGS.items()}
-    q["world"] = QUERY_ARGS["world"]
+    q = dict({k: scaled(v, args) for k, v in QUERY_ARGS.items()}, world=QUERY_ARGS["world"])  # the world unscaled
     return [x for k, v in q.items() for x in (f"--{k}", v)] + ["--seed", args.seed, "--threads", "default",
                                                               "--json", runner.jsonl, "--label", label]
 
@@ -235,10 +224,10 @@ def main():
             traces.append(dict(scene=scene, size=scaled(size, args, 2), warmup=w, steps=s, path=path,
                                name=os.path.basename(path).split(".")[0], proxies=run.trace_proxies(path),
                                phases=[l.strip() for l in open(path + ".phases") if not l.startswith("#")][w:]))
-    info["traces"] = [{k: t[k] for k in ("scene", "size", "warmup", "steps", "name", "proxies", "phases")}
-                      for t in traces]
+    info["traces"] = [{k: v for k, v in t.items() if k != "path"} for t in traces]
 
-    plans = []  # (level, runner, part, units)
+    # (level, runner, part, units); queries (each build and thread count of step) and circles at the first level only
+    plans = []
     for i, (lv, _, runner) in enumerate(runners):
         for part in args.parts:
             if part == "step":
@@ -248,10 +237,8 @@ def main():
             elif part == "replay":
                 plans.append((lv, runner, part, [(t, e) for t in traces for e in replay_engines(
                     t, available if i == 0 else set(HEADLINE_ENGINES))] + [(None, "triad")]))
-            elif part == "queries" and i == 0:
-                plans.append((lv, runner, part, [("stock", 1), ("quadtree", 1), ("quadtree", 2)]))
-            elif part == "circles" and i == 0:
-                plans.append((lv, runner, part, CIRCLES[args.profile]))
+            elif i == 0:
+                plans.append((lv, runner, part, STEP_ENGINES if part == "queries" else CIRCLES[args.profile]))
     bar = run.Progress(sum(len(u) * (1 if p == "circles" else args.rounds + (p == "replay")) for _, _, p, u in plans))
     for seed, (lv, runner, part, units) in enumerate(plans):
         t0 = time.time()
@@ -264,8 +251,8 @@ def main():
                 runner.wait_quiet() if args.wait_quiet > 0 else None
                 for u in run.shuffled(units, args.seed + 100 * seed + rnd):
                     run_one(runner, args, part, u, rnd)
-                    bar.step(f"{lv} {part} r{rnd + 1} " + " ".join(str(x) for x in (u[1:] if part != "replay" else
-                                                                                    ((u[0] or {}).get("name"), u[1]))))
+                    what = u[1:] if part != "replay" else ((u[0] or {}).get("name"), u[1])
+                    bar.step(f"{lv} {part} r{rnd + 1} " + " ".join(str(x) for x in what))
         info["timing"][f"{lv} {part}"] = time.time() - t0
     bar.end()
     info["timing"]["total_s"] = time.time() - t_start
@@ -278,7 +265,12 @@ def main():
 
 def run_one(runner, args, part, u, rnd):
     if part in ("step", "phases"):
-        run_unit(runner, args, u, rnd)
+        _, scene, size, build, omp = u[:5]
+        warmup, steps = (0, u[5]) if part == "phases" else ((40, 40) if args.full else (20, 20))
+        runner.run(f"qp-step-{build}", "--scene", scene, "--size", size, "--seed", args.seed, "--warmup", warmup,
+                   "--steps", steps, "--threads", "default", "--ccd", args.ccd, "--json", runner.jsonl,
+                   "--label", f"{part} r{rnd}", *(["--per-step"] if part == "phases" else []),
+                   env={"OMP_NUM_THREADS": str(omp)})
     elif part == "replay":
         t, e = u
         extra = ["--repeats", 1, "--json", runner.jsonl, "--label", f"replay r{rnd}"]
@@ -310,7 +302,8 @@ def run_circles(runner, args, configs, bar):
         # Quick: fewer frames per repeat (still 3 repeats, the paper's rule). Broadphases start at 4,000 circles.
         frames = ["--frames", 10, "--warmup", 20] if args.full else ["--frames", 5, "--warmup", 10]
         runner.run("qp-circles", "--engine", engine, "--threads", threads, "--depth",
-                   "auto" if depth is None else depth, "--max-seconds", cap, *frames, "--start", 1000 if engine == "pairwise" else 4000,
+                   "auto" if depth is None else depth, "--max-seconds", cap, *frames,
+                   "--start", 1000 if engine == "pairwise" else 4000,
                    "--precision", 0.05 if args.full else 0.1, "--json", runner.jsonl, "--label", "circles")
         bar.step(f"circles {engine} {threads}t depth {depth or 'auto'}")
 
@@ -318,10 +311,22 @@ def run_circles(runner, args, configs, bar):
 # ----------------------------------------------------------------------------------------------------------------
 # Aggregation: medians over rounds, one row per (scene, size, engine)
 # ----------------------------------------------------------------------------------------------------------------
-STEP_FIELDS = ["step_ms", "collide_ms", "solve_ms", "broadphase_ms", "toi_ms", "contacts_mean", "new_pairs_per_step",
-               "pairs_reported_per_step", "qt_find_ms_per_step", "peak_rss_bytes", "bp_bytes_per_proxy", "proxies",
-               "bodies", "continuous", "qt_parallel_calls_per_step"]
+STEP_CSV = ["step_ms", "collide_ms", "solve_ms", "broadphase_ms", "toi_ms", "contacts_mean", "new_pairs_per_step",
+            "pairs_reported_per_step", "qt_find_ms_per_step", "peak_rss_bytes", "bp_bytes_per_proxy"]
+STEP_FIELDS = STEP_CSV + ["proxies", "bodies", "continuous", "qt_parallel_calls_per_step"]
 PHASE_FIELDS = [f"{p}_{k}" for p in PHASES for k in ("first", "steps", "step_ms", "broadphase_ms")]
+# The CSVs of every level (with an "opt" column) and their columns (None: every field, in the order first seen);
+# queries.csv and circles.csv are the first level's.
+LEVEL_CSVS = {
+    "step": ["opt", "scene", "size", "engine", "rounds", "bodies", "proxies", "continuous"] + STEP_CSV,
+    "phases": ["opt", "scene", "size", "steps", "engine", "rounds", "continuous"] + PHASE_FIELDS
+              + [k.format(p) for p in PHASES for k in ("fair_{}_steps", "fair_{}_stock_bp_ms", "fair_{}_bp_ms",
+                                                       "{}_stock_us_per_awake", "{}_qt_us_per_awake")],
+    "replay_phases": None, "peers": None,
+    "replay": ["opt", "scene", "size", "trace", "engine", "mode", "rounds", "mean_proxies", "ms_per_step",
+               "ns_per_proxy_step", "pairs_per_step", "bytes_per_proxy", "exact", "missed_pct", "duplicates_pct",
+               "levels"],
+}
 
 
 def engine_name(r):
@@ -342,11 +347,11 @@ def aggregate(rows):
             triads.append(r["bytes_per_s"])
         elif tool == "qp-replay" and kind in ("run", "check", "paper_check"):
             e = r.get("engine", "quadtree")
-            e = f"quadtree-{r.get('threads')}t" if e == "quadtree" else e
+            key = (r["trace"], f"quadtree-{r.get('threads')}t" if e == "quadtree" else e)
             if kind == "run":
-                replay.setdefault((r["trace"], e), []).append(r)
+                replay.setdefault(key, []).append(r)
             elif kind == "check":
-                checks[(r["trace"], e)] = r
+                checks[key] = r
             else:
                 paper_checks[r["trace"]] = r
         elif tool == "qp-circles" and kind == "result":
@@ -365,11 +370,11 @@ def fair_phases(groups):
     broadphase time per awake body over its own phases. (scene, size, steps, engine) -> fields."""
     out = {}
     for s, n, st in {k[1:4] for k in groups if k[0] == "phases"}:
-        runs = {e: groups.get(("phases", s, n, st, e)) for e in ("stock", "quadtree-1t", "quadtree-2t")}
+        runs = {e: groups.get(("phases", s, n, st, e)) for e in HEADLINE_ENGINES}
         if not runs["stock"] or "steps_phase" not in runs["stock"][0]:
             continue
         sp, sbp = runs["stock"][0]["steps_phase"], per_step(runs["stock"], "steps_bp_ms")
-        for e in ("quadtree-1t", "quadtree-2t"):
+        for e in QUADTREES:
             if not runs[e] or "steps_phase" not in runs[e][0]:
                 continue
             qp, qbp, row = runs[e][0]["steps_phase"], per_step(runs[e], "steps_bp_ms"), {}
@@ -390,14 +395,11 @@ def replay_phase_rows(replay, traces):
     rounds; stock ÷ engine."""
     out = []
     for t in (t for t in traces if t["warmup"] == 0):
-        for e in PHASE_ENGINES:
-            runs = replay.get((t["name"], e))
-            if not runs:
-                continue
+        for e in (e for e in PHASE_ENGINES if replay.get((t["name"], e))):
             for p in PHASES:
                 ks = [k for k, x in enumerate(t["phases"]) if x == p]
                 if ks:
-                    ms = med([sum(r["steps_ns"][k] for k in ks) / len(ks) * 1e-6 for r in runs])
+                    ms = med([sum(r["steps_ns"][k] for k in ks) / len(ks) * 1e-6 for r in replay[(t["name"], e)]])
                     out.append({"trace": t["name"], "scene": t["scene"], "size": t["size"], "engine": e, "phase": p,
                                 "first": ks[0], "steps": len(ks), "ms_per_step": ms})
     ref = {(r["trace"], r["phase"]): r["ms_per_step"] for r in out if r["engine"] == "stock"}
@@ -406,13 +408,11 @@ def replay_phase_rows(replay, traces):
 
 def peers_floors(rows, checks, triads, traces):
     """Per trace: the fastest exact peer (either mode), quadphase's ratio over it, the oracle and memory floors."""
-    out, bw = [], med(triads)
-    by = {}
+    out, bw, by, meta = [], med(triads), {}, {t["name"]: t for t in traces}
     for r in rows:
         by.setdefault((r["scene"], r["size"]), {})[r["engine"]] = r
-    meta = {t["name"]: t for t in traces}
     for (s, n), es in sorted(by.items()):
-        q1 = es.get("quadtree-1t")
+        q1, o = es.get("quadtree-1t"), es.get("oracle") or {}
         if not q1:
             continue
         exact = [(r["ms_per_step"], e) for e, r in es.items() if e in PEERS and r.get("exact") == "yes"]
@@ -420,50 +420,44 @@ def peers_floors(rows, checks, triads, traces):
         c = checks.get((q1["trace"], "quadtree-1t")) or {}
         steps = c.get("timed_steps") or meta.get(q1["trace"], {}).get("steps")
         mem = c["floor_bytes"] / steps / bw * 1e3 if c.get("floor_bytes") and bw and steps else None
-        o = es.get("oracle") or {}
-        out.append({"scene": s, "size": n, "qt1_ms": q1["ms_per_step"], "qt2_ms": (es.get("quadtree-2t") or {}).get(
-            "ms_per_step"), "peer": best[1], "peer_ms": best[0], "peer_x": ratio(best[0], q1["ms_per_step"]),
-            "oracle_ms": o.get("ms_per_step"), "oracle_exact": o.get("exact"),
-            "qt_over_oracle": ratio(q1["ms_per_step"], o.get("ms_per_step")), "memory_floor_ms": mem,
-            "qt_over_memory": ratio(q1["ms_per_step"], mem), "floor_mb_per_step": steps and c.get("floor_bytes", 0) / steps / 1e6,
-            "triad_gb_s": bw and bw * 1e-9})
+        out.append({"scene": s, "size": n, "qt1_ms": q1["ms_per_step"],
+                    "qt2_ms": (es.get("quadtree-2t") or {}).get("ms_per_step"), "peer": best[1], "peer_ms": best[0],
+                    "peer_x": ratio(best[0], q1["ms_per_step"]), "oracle_ms": o.get("ms_per_step"),
+                    "oracle_exact": o.get("exact"), "qt_over_oracle": ratio(q1["ms_per_step"], o.get("ms_per_step")),
+                    "memory_floor_ms": mem, "qt_over_memory": ratio(q1["ms_per_step"], mem),
+                    "floor_mb_per_step": steps and c.get("floor_bytes", 0) / steps / 1e6,
+                    "triad_gb_s": bw and bw * 1e-9})
     return out
 
 
 def step_rows(groups, part, fields):
-    out = []
-    for (p, scene, size, steps, name), runs in groups.items():
-        if p == part:
-            row = {"scene": scene, "size": size, "steps": steps, "engine": name, "rounds": len(runs)}
-            row.update({k: med([x.get(k) for x in runs]) for k in fields})
-            out.append(row)
+    out = [dict({"scene": scene, "size": size, "steps": steps, "engine": name, "rounds": len(runs)},
+                **{k: med([x.get(k) for x in runs]) for k in fields})
+           for (p, scene, size, steps, name), runs in groups.items() if p == part]
     return sorted(out, key=lambda r: (r["scene"], r["size"], r["steps"], r["engine"]))
 
 
 def replay_table(replay, checks, paper_checks, traces):
-    out = []
-    meta = {t["name"]: t for t in traces}
+    out, meta = [], {t["name"]: t for t in traces}
     for (trace, e), runs in replay.items():
         if meta.get(trace, {}).get("warmup") == 0:
             continue  # phase traces: replay_phase_rows
-        row = {"trace": trace, "mode": "native" if "-native" in e else ("protocol" if e in PEERS + ["oracle"] else ""), "scene": runs[0]["scene"], "size": runs[0]["size"], "engine": e, "rounds": len(runs),
-               "ms_per_step": med([x["step_ns"] * 1e-6 for x in runs]),
+        mode = "native" if "-native" in e else ("protocol" if e in PEERS + ["oracle"] else "")
+        row = {"trace": trace, "mode": mode, "scene": runs[0]["scene"], "size": runs[0]["size"], "engine": e,
+               "rounds": len(runs), "ms_per_step": med([x["step_ns"] * 1e-6 for x in runs]),
                "proxies_end": meta.get(trace, {}).get("proxies")}
         row.update({k: med([x.get(k) for x in runs]) for k in ("ns_per_proxy_step", "pairs_per_step",
                                                                "bytes_per_proxy", "mean_proxies")})
-        c = checks.get((trace, e))
+        c, p = checks.get((trace, e)), paper_checks.get(trace)
         if e in EXACT_ENGINES:
             row["exact"] = ("yes" if c and c.get("mismatches") == 0 and c.get("compared_file") == 1
                             else ("MISMATCH" if c and c.get("mismatches") else "not checked"))
-        elif e == "stock":
-            row["exact"] = "reference"
-        elif e == "paper" and paper_checks.get(trace):
-            p = paper_checks[trace]
+        elif e == "paper" and p:
             row.update(exact="no (by design)", missed_pct=100.0 * p["missed"] / max(1, p["exact_pairs"]),
                        duplicates_pct=100.0 * p["duplicates"] / max(1, p["exact_pairs"]), extra=p["extra"],
                        levels=p.get("levels"))
         else:
-            row["exact"] = "-"
+            row["exact"] = "reference" if e == "stock" else "-"
         out.append(row)
     return sorted(out, key=lambda r: (r["scene"], r["size"], REPLAY_ENGINES.index(r["engine"])))
 
@@ -476,55 +470,54 @@ def query_rows(queries):
             hashes = {r.get(w + "_hash") for r in runs}
             out.append({"workload": w, "engine": name, "rounds": len(runs),
                         "ms": med([r[w + "_ns"] * 1e-6 for r in runs if w + "_ns" in r]),
-                        "queries": runs[0].get(w + "_queries"),
-                        "hits": runs[0].get(w + "_hits"), "hash": ",".join(sorted(h for h in hashes if h)),
-                        "same_hits_as_stock": hashes == {ref[w]}, "bodies": runs[0]["bodies"],
-                        "teleported": runs[0]["teleported"]})
+                        "queries": runs[0].get(w + "_queries"), "hits": runs[0].get(w + "_hits"),
+                        "hash": ",".join(sorted(h for h in hashes if h)), "same_hits_as_stock": hashes == {ref[w]},
+                        "bodies": runs[0]["bodies"], "teleported": runs[0]["teleported"]})
     return out
+
+
+def level_data(rows, traces):
+    """One level's raw rows as the rows of its CSVs."""
+    groups, replay, checks, paper_checks, circles, queries, triads = aggregate(rows)
+    fair = fair_phases(groups)
+    replay_rows = replay_table(replay, checks, paper_checks, traces)
+    return dict(step=step_rows(groups, "step", STEP_FIELDS),
+                phases=[dict(r, **fair.get((r["scene"], r["size"], r["steps"], r["engine"]), {}))
+                        for r in step_rows(groups, "phases", PHASE_FIELDS + ["continuous", "bodies"])],
+                replay=replay_rows, replay_phases=replay_phase_rows(replay, traces),
+                peers=peers_floors(replay_rows, checks, triads, traces), queries=query_rows(queries),
+                circles=[dict(engine=e, threads=t, depth="auto" if d < 0 else d,
+                              **{k: r[k] for k in ("n_max", "capped", "evaluations", "seconds")})
+                         for (e, t, d), r in sorted(circles.items())])
+
+
+def keyed(rows, fields=("scene", "size", "engine")):
+    return {tuple(r[f] for f in fields): r for r in rows}
+
+
+def x_stock(by, case, engine, field):
+    """Stock's `field` ÷ the engine's on a case (a key of `by` without its engine): > 1 when the engine is faster."""
+    return ratio((by.get(case + ("stock",)) or {}).get(field), (by.get(case + (engine,)) or {}).get(field))
+
+
+def threads(engine):
+    return engine.replace("quadtree-", "")
 
 
 # ----------------------------------------------------------------------------------------------------------------
 # Outputs
 # ----------------------------------------------------------------------------------------------------------------
 def write_outputs(args, info, rows_by_level):
-    res = args.results
-    levels = [lv for lv, _ in info["levels"]]
-    data = {}
-    for lv in levels:
-        groups, replay, checks, paper_checks, circles, queries, triads = aggregate(rows_by_level[lv])
-        fair = fair_phases(groups)
-        replay_rows = replay_table(replay, checks, paper_checks, info.get("traces", []))
-        data[lv] = dict(step=step_rows(groups, "step", STEP_FIELDS),
-                        phases=[dict(r, **fair.get((r["scene"], r["size"], r["steps"], r["engine"]), {}))
-                                for r in step_rows(groups, "phases", PHASE_FIELDS + ["continuous", "bodies"])],
-                        replay=replay_rows, replay_phases=replay_phase_rows(replay, info.get("traces", [])),
-                        peers=peers_floors(replay_rows, checks, triads, info.get("traces", [])),
-                        queries=query_rows(queries), circles=[
-                            {"engine": e, "threads": t, "depth": "auto" if d < 0 else d, "n_max": r["n_max"],
-                             "capped": r["capped"], "evaluations": r["evaluations"], "seconds": r["seconds"]}
-                            for (e, t, d), r in sorted(circles.items())])
-    d0 = data[levels[0]]
-    report.write_csv(os.path.join(res, "step.csv"), [dict(r, opt=lv) for lv in levels for r in data[lv]["step"]],
-                     ["opt", "scene", "size", "engine", "rounds", "bodies", "proxies", "continuous", "step_ms",
-                      "collide_ms", "solve_ms", "broadphase_ms", "toi_ms", "contacts_mean", "new_pairs_per_step",
-                      "pairs_reported_per_step", "qt_find_ms_per_step", "peak_rss_bytes", "bp_bytes_per_proxy"])
-    report.write_csv(os.path.join(res, "phases.csv"), [dict(r, opt=lv) for lv in levels for r in data[lv]["phases"]],
-                     ["opt", "scene", "size", "steps", "engine", "rounds", "continuous"] + PHASE_FIELDS + [
-                         f"{k.format(p)}" for p in PHASES for k in ("fair_{}_steps", "fair_{}_stock_bp_ms",
-                                                                    "fair_{}_bp_ms", "{}_stock_us_per_awake",
-                                                                    "{}_qt_us_per_awake")])
-    for name in ("replay_phases", "peers"):
-        report.write_csv(os.path.join(res, name + ".csv"), [dict(r, opt=lv) for lv in levels for r in data[lv][name]])
-    report.write_csv(os.path.join(res, "replay.csv"), [dict(r, opt=lv) for lv in levels for r in data[lv]["replay"]],
-                     ["opt", "scene", "size", "trace", "engine", "mode", "rounds", "mean_proxies", "ms_per_step",
-                      "ns_per_proxy_step", "pairs_per_step", "bytes_per_proxy", "exact", "missed_pct",
-                      "duplicates_pct", "levels"])
-    report.write_csv(os.path.join(res, "queries.csv"), d0["queries"])
-    report.write_csv(os.path.join(res, "circles.csv"), d0["circles"])
+    res, levels = args.results, [lv for lv, _ in info["levels"]]
+    data = {lv: level_data(rows_by_level[lv], info.get("traces", [])) for lv in levels}
+    for name, fields in LEVEL_CSVS.items():
+        report.write_csv(os.path.join(res, name + ".csv"), [dict(r, opt=lv) for lv in levels for r in data[lv][name]],
+                         fields)
+    for name in ("queries", "circles"):
+        report.write_csv(os.path.join(res, name + ".csv"), data[levels[0]][name])
     report.write_json(os.path.join(res, "bench.json"), {
         "machine": info, "levels": data, "paper_published": paper.TABLES, "reference_this_machine": REFERENCE})
-    plots = figures(res, d0)
-    report.write_lines(args.summary, markdown(info, data, levels, plots))
+    report.write_lines(args.summary, markdown(info, data, levels, figures(res, data[levels[0]])))
 
 
 def figures(res, d):
@@ -533,24 +526,20 @@ def figures(res, d):
         return {}
     from matplotlib.ticker import FuncFormatter
     plots = {}
-    by = {(r["scene"], r["size"], r["engine"]): r for r in d["step"]}
-    cases = sorted({(r["scene"], r["size"]) for r in d["step"]})
+    by, cases = keyed(d["step"]), sorted({(r["scene"], r["size"]) for r in d["step"]})
     if cases:  # 1. ratio bars per scene: stock / quadtree, whole step and b2Profile::broadphase
         fig, axes = plt.subplots(2, 1, figsize=(max(8, 0.55 * len(cases) + 2), 7.5), sharex=True)
         for ax, metric, title in ((axes[0], "step_ms", "whole step (b2Profile::step)"),
                                   (axes[1], "broadphase_ms", "broadphase (b2Profile::broadphase)")):
-            for k, (eng, color) in enumerate((("quadtree-1t", "#4c72b0"), ("quadtree-2t", "#dd8452"))):
-                vals = [ratio((by.get(c + ("stock",)) or {}).get(metric), (by.get(c + (eng,)) or {}).get(metric)) or 0
-                        for c in cases]
-                ax.bar([x + (k - 0.5) * 0.4 for x in range(len(cases))], vals, 0.4, color=color,
-                       label=ENGINE_LABEL[eng])
+            for k, (eng, color) in enumerate(zip(QUADTREES, ("#4c72b0", "#dd8452"))):
+                ax.bar([x + (k - 0.5) * 0.4 for x in range(len(cases))],
+                       [x_stock(by, c, eng, metric) or 0 for c in cases], 0.4, color=color, label=ENGINE_LABEL[eng])
             ax.axhline(1.0, color="black", lw=0.8)
             ax.set_yscale("log")
             ax.yaxis.set_major_formatter(FuncFormatter(lambda y, _: f"{y:g}×"))
             ax.yaxis.set_minor_formatter(FuncFormatter(
                 lambda y, _: f"{y:g}×" if y > 0 and round(y / 10 ** math.floor(math.log10(y))) in (2, 5) else ""))
-            ax.set_ylabel("stock time / quadtree time")
-            ax.set_title(title + ": > 1 means quadphase is faster")
+            ax.set(ylabel="stock time / quadtree time", title=title + ": > 1 means quadphase is faster")
             ax.legend(fontsize=8)
             ax.grid(axis="y", alpha=0.3, which="both")
         axes[1].set_xticks(list(range(len(cases))))
@@ -569,9 +558,8 @@ def figures(res, d):
                 if pts:
                     ax.plot([p[0] for p in pts], [p[1] for p in pts], marker="o", ms=3,
                             ls="--" if e in ("oracle", "null", "paper") else "-", label=ENGINE_LABEL[e])
-            ax.set_xscale("log")
-            ax.set_yscale("log")
-            ax.set(xlabel="live proxies", ylabel="broadphase work, ms per step", title=f"replay: {scene}")
+            ax.set(xscale="log", yscale="log", xlabel="live proxies", ylabel="broadphase work, ms per step",
+                   title=f"replay: {scene}")
             ax.grid(alpha=0.3, which="both")
         axes[0][0].legend(fontsize=7)
         plots["replay"] = "results/replay_scaling.png"
@@ -580,21 +568,19 @@ def figures(res, d):
         fig, ax = plt.subplots(figsize=(8.5, 4.8))
         labels = ["4", "5", "6", "7", "8", "9", "auto"]
         series = {}
-        for r in d["circles"]:
-            if r["engine"] in ("paper", "quadtree"):
-                name = ("paper's design" if r["engine"] == "paper" else "quadphase") + \
-                       (", sequential" if r["threads"] == 1 else f", {r['threads']} threads (static)")
-                series.setdefault(name, {})[str(r["depth"])] = r["n_max"]
+        for r in (r for r in d["circles"] if r["engine"] in ("paper", "quadtree")):
+            name = ("paper's design" if r["engine"] == "paper" else "quadphase") + \
+                   (", sequential" if r["threads"] == 1 else f", {r['threads']} threads (static)")
+            series.setdefault(name, {})[str(r["depth"])] = r["n_max"]
         for k, (name, vals) in enumerate(sorted(series.items())):
             xs = [i for i, l in enumerate(labels) if l in vals]
             # A small sideways offset per series, so that equal results stay visible.
             ax.plot([x + 0.06 * (k - 1.5) for x in xs], [vals[labels[i]] for i in xs], marker="o",
                     label=name + " (here)")
-        for r in d["circles"]:
-            if r["engine"] in ("pairwise", "stock"):
-                ax.axhline(r["n_max"], ls=":", color="gray" if r["engine"] == "pairwise" else "green")
-                ax.text(6.1, r["n_max"], ("brute force" if r["engine"] == "pairwise" else "stock tree") + " (here)",
-                        fontsize=7, va="bottom")
+        for r in (r for r in d["circles"] if r["engine"] in ("pairwise", "stock")):
+            ax.axhline(r["n_max"], ls=":", color="gray" if r["engine"] == "pairwise" else "green")
+            ax.text(6.1, r["n_max"], ("brute force" if r["engine"] == "pairwise" else "stock tree") + " (here)",
+                    fontsize=7, va="bottom")
         for k, ls in (("Seq.", "--"), ("Static", "-.")):
             ax.plot(range(6), paper.TABLES["i7-7500U (2 cores / 4 threads)"][k], ls=ls, color="black", alpha=0.5,
                     lw=1, label=f"paper, i7-7500U, {k} (published)")
@@ -613,7 +599,7 @@ def figures(res, d):
     return plots
 
 
-def section(title, plots, key, alt, intro):
+def section(title, intro, plots=(), key=None, alt=None):
     """A section's title, its plot (when drawn) and its introduction."""
     return [title, ""] + ([f"![{alt}]({plots[key]})", ""] if key in plots else []) + [intro, ""]
 
@@ -624,8 +610,7 @@ def met(ok):
 
 def markdown(info, data, levels, plots):
     d = data[levels[0]]
-    by = {(r["scene"], r["size"], r["engine"]): r for r in d["step"]}
-    rp = {(r["scene"], r["size"], r["engine"]): r for r in d["replay"]}
+    by, rp = keyed(d["step"]), keyed(d["replay"])
     L = ["# quadphase benchmark results", "",
          f"Profile **{info['profile']}** (`bench/run.sh{' --full' if info['profile'] == 'full' else ''}"
          f"{' --opt both' if len(levels) > 1 else ''}`), {info['rounds']} rounds, medians over rounds; produced by "
@@ -658,27 +643,27 @@ def markdown(info, data, levels, plots):
     return L
 
 
+def goal_row(target, vals, goal, in_profile=True, note=""):
+    """A headline row: the (measured, ratio) pairs; met when every ratio reaches the goal, n/a (and `note`) when
+    the profile has none of the target's cases."""
+    if not vals:
+        return []
+    return [f"| {target} | {', '.join(t for t, _ in vals)}{'' if in_profile else note} | "
+            f"{met(all(v >= goal for _, v in vals) if in_profile else None)} |"]
+
+
 def headline(d, by, rp, level):
     L = [f"## Headline: measured against the targets of issues 4, 16 and 19 ({level})", "",
          "| target | measured here | |", "|---|---|---|"]
-
-    def replay_ratio(scene, size, eng):
-        return ratio((rp.get((scene, size, "stock")) or {}).get("ms_per_step"),
-                     (rp.get((scene, size, eng)) or {}).get("ms_per_step"))
-
     replay_cases = sorted({(r["scene"], r["size"]) for r in d["replay"]})
     big = [(s, n) for s, n in replay_cases if (s == "particles" and n >= 50000) or (s == "rain" and n >= 60000)]
     for eng, goal in (("quadtree-1t", 8), ("quadtree-2t", 14)):
-        cases = big or [c for c in replay_cases if c[0] in ("particles", "rain")]
-        vals = [(c, replay_ratio(c[0], c[1], eng)) for c in cases]
-        vals = [(c, v) for c, v in vals if v]
-        if vals:
-            L.append(f"| replay, {eng.replace('quadtree-', '')}: ≥{goal}× stock on particles 50k–100k, rain 64k | "
-                     + ", ".join(f"{c[0]} {c[1]}: {v:.1f}×" for c, v in vals)
-                     + f"{'' if big else ' (smaller traces: this profile has no 50k+ trace)'} | "
-                     f"{met(all(v >= goal for _, v in vals) if big else None)} |")
-    slower = [f"{s} {n} ({e})" for s, n in replay_cases for e in ("quadtree-1t", "quadtree-2t")
-              if (replay_ratio(s, n, e) or 2) < 1.0]
+        vals = [(f"{s} {n}: {v:.1f}×", v) for s, n in big or [c for c in replay_cases if c[0] in ("particles", "rain")]
+                for v in [x_stock(rp, (s, n), eng, "ms_per_step")] if v]
+        L += goal_row(f"replay, {threads(eng)}: ≥{goal}× stock on particles 50k–100k, rain 64k", vals, goal, big,
+                      " (smaller traces: this profile has no 50k+ trace)")
+    slower = [f"{s} {n} ({e})" for s, n in replay_cases for e in QUADTREES
+              if (x_stock(rp, (s, n), e, "ms_per_step") or 2) < 1.0]
     L.append(f"| replay: never slower than stock on any trace | "
              f"{'slower on: ' + ', '.join(slower) if slower else 'faster on every trace'} | {met(not slower)} |")
     for scene, size, key in (("particles", 50000, "replay_stock_particles50k"),
@@ -687,72 +672,62 @@ def headline(d, by, rp, level):
             L.append(f"| stock replay ≈{REFERENCE[key]} ns/proxy/step on {scene} {size} (reference) | "
                      f"{rp[(scene, size, 'stock')]['ns_per_proxy_step']:.0f} ns | context |")
     step_cases = sorted({(r["scene"], r["size"]) for r in d["step"]})
-
-    def step_ratio(scene, size, eng, metric):
-        return ratio((by.get((scene, size, "stock")) or {}).get(metric), (by.get((scene, size, eng)) or {}).get(metric))
-
     for size, key in ((10000, "step_bp_stock_particles10k"), (50000, "step_bp_stock_particles50k")):
         if by.get(("particles", size, "stock")):
             L.append(f"| stock b2Profile::broadphase {REFERENCE[key]} ms/step on particles {size} (reference) | "
                      f"{by[('particles', size, 'stock')]['broadphase_ms']:.2f} ms | context |")
     p20 = [c for c in step_cases if c[0] == "particles" and c[1] >= 20000]
     for eng, goal in (("quadtree-1t", 3), ("quadtree-2t", 4)):
-        cases = p20 or [c for c in step_cases if c[0] == "particles"]
-        vals = [(c, step_ratio(c[0], c[1], eng, "broadphase_ms")) for c in cases]
-        vals = [(c, v) for c, v in vals if v]
-        if vals:
-            L.append(f"| in-engine broadphase, {eng.replace('quadtree-', '')}: ≥{goal}× on particles 20k+ | "
-                     + ", ".join(f"particles {c[1]}: {v:.1f}×" for c, v in vals)
-                     + ("" if p20 else " (no 20k+ size in this profile)")
-                     + f" | {met(all(v >= goal for _, v in vals) if p20 else None)} |")
+        vals = [(f"particles {n}: {v:.1f}×", v) for s, n in p20 or [c for c in step_cases if c[0] == "particles"]
+                for v in [x_stock(by, (s, n), eng, "broadphase_ms")] if v]
+        L += goal_row(f"in-engine broadphase, {threads(eng)}: ≥{goal}× on particles 20k+", vals, goal, p20,
+                      " (no 20k+ size in this profile)")
     for metric, what in (("broadphase_ms", "in-engine broadphase"), ("step_ms", "whole step")):
-        worst = sorted((v, f"{s} {n} {e.replace('quadtree-', '')}") for s, n in step_cases
-                       for e in ("quadtree-1t", "quadtree-2t") for v in [step_ratio(s, n, e, metric)] if v is not None)
+        worst = sorted((v, f"{s} {n} {threads(e)}") for s, n in step_cases for e in QUADTREES
+                       for v in [x_stock(by, (s, n), e, metric)] if v is not None)
+        below = [w for w in worst if w[0] < 0.95]
         if worst:
-            below = [w for w in worst if w[0] < 0.95]
             L.append(f"| {what}: never slower on any scene{' (within noise, 5%)' if metric == 'step_ms' else ''} | "
                      f"lowest ratio {worst[0][0]:.2f}× ({worst[0][1]})"
-                     + (f"; below 0.95×: {', '.join(w[1] for w in below)}" if below else "") + f" | {met(not below)} |")
+                     + (f"; below 0.95×: {', '.join(w[1] for w in below)}" if below else "")
+                     + f" | {met(not below)} |")
+    ccd = "CCD on" if all(r.get("continuous") for r in d["phases"]) else "CCD not on everywhere"
     for low, how in ((phase_lows(d["phases"], True), "the same steps: stock's phases, resting where both rest"),
                      (phase_lows(d["phases"]), "raw: each build's own phases")):
         if low:
-            ccd = "CCD on" if all(r.get("continuous") for r in d["phases"]) else "CCD not on everywhere"
             L.append(f"| in-engine broadphase, every phase, 1 and 2 threads ({ccd}): never below 1.0× ({how}) | "
                      f"lowest {low[0][0]:.2f}× ({low[0][1]})"
                      + (f"; below 1.0×: {', '.join(f'{w[1]} {w[0]:.2f}×' for w in low if w[0] < 1.0)}"
                         if low[0][0] < 1.0 else "") + f" | {met(low[0][0] >= 1.0)} |")
     for eng, goal in (("quadtree-1t", 8), ("quadtree-2t", 14)):
-        vals = [r for r in d["replay_phases"] if r["engine"] == eng and r["x_stock"]]
-        if vals:
-            L.append(f"| replay, {eng.replace('quadtree-', '')}: ≥{goal}× stock in every phase of rain | "
-                     + ", ".join(f"{r['scene']} {r['size']} {r['phase']}: {r['x_stock']:.1f}×" for r in vals)
-                     + f" | {met(all(r['x_stock'] >= goal for r in vals))} |")
-    pf = {(r["scene"], r["size"]): r for r in d["peers"]}
+        L += goal_row(f"replay, {threads(eng)}: ≥{goal}× stock in every phase of rain",
+                      [(f"{r['scene']} {r['size']} {r['phase']}: {r['x_stock']:.1f}×", r["x_stock"])
+                       for r in d["replay_phases"] if r["engine"] == eng and r["x_stock"]], goal)
+    pf = keyed(d["peers"], ("scene", "size"))
     cases = [c for c in big if c in pf and pf[c]["peer_x"]] or [c for c, r in pf.items() if r["peer_x"]]
-    if cases:
-        L.append("| replay, 1 thread: ≥4× the fastest tuned exact peer on particles 50k–100k, rain 64k | " + ", ".join(
-            f"{s} {n}: {pf[(s, n)]['peer_x']:.1f}× ({pf[(s, n)]['peer']})" for s, n in cases)
-            + ("" if big else " (smaller traces: no 50k+ trace in this profile)")
-            + f" | {met(all(pf[c]['peer_x'] >= 4 for c in cases) if big else None)} |")
-    o50 = pf.get(("particles", 50000)) or {}
-    others = ", ".join(f"{s} {n}: {r['qt_over_oracle']:.1f}×" for (s, n), r in sorted(pf.items()) if r["qt_over_oracle"])
+    L += goal_row("replay, 1 thread: ≥4× the fastest tuned exact peer on particles 50k–100k, rain 64k",
+                  [(f"{s} {n}: {pf[(s, n)]['peer_x']:.1f}× ({pf[(s, n)]['peer']})", pf[(s, n)]["peer_x"])
+                   for s, n in cases], 4, big, " (smaller traces: no 50k+ trace in this profile)")
+    o50 = (pf.get(("particles", 50000)) or {}).get("qt_over_oracle")
+    others = ", ".join(f"{s} {n}: {r['qt_over_oracle']:.1f}×" for (s, n), r in sorted(pf.items())
+                       if r["qt_over_oracle"])
     L.append(f"| replay, 1 thread: within 4× of the oracle floor on particles 50k | "
-             + (f"{o50['qt_over_oracle']:.1f}×" if o50.get("qt_over_oracle") else "particles 50k not in this profile")
-             + f" (every trace: {others}) | {met(o50['qt_over_oracle'] <= 4) if o50.get('qt_over_oracle') else 'n/a'} |")
+             + (f"{o50:.1f}×" if o50 else "particles 50k not in this profile")
+             + f" (every trace: {others}) | {met(o50 <= 4) if o50 else 'n/a'} |")
     mem = ", ".join(f"{s} {n}: {r['qt_over_memory']:.0f}×" for (s, n), r in sorted(pf.items()) if r["qt_over_memory"])
     if mem:
         L.append(f"| replay, 1 thread ÷ memory floor (bytes touched ÷ triad bandwidth) | {mem} | context |")
-    s50 = step_ratio("particles", 50000, "quadtree-2t", "step_ms")
-    L.append(f"| whole step ≥1.5× on particles 50k, 2 threads | {f'{s50:.2f}×' if s50 else 'not measured in this profile'}"
-             f" | {met(s50 >= 1.5) if s50 else 'n/a'} |")
-    q = {(r["workload"], r["engine"]): r for r in d["queries"]}
+    s50 = x_stock(by, ("particles", 50000), "quadtree-2t", "step_ms")
+    L.append(f"| whole step ≥1.5× on particles 50k, 2 threads | "
+             f"{f'{s50:.2f}×' if s50 else 'not measured in this profile'} | {met(s50 >= 1.5) if s50 else 'n/a'} |")
+    q = keyed(d["queries"], ("workload", "engine"))
     if q:
-        worst = sorted((ratio(q[(w, 'stock')]['ms'], q[(w, e)]['ms']), w, e) for w, _ in QUERY_WORKLOADS
-                       for e in ("quadtree-1t", "quadtree-2t") if (w, e) in q and (w, "stock") in q)
+        worst = sorted((x_stock(q, (w,), e, "ms"), w, e) for w, _ in QUERY_WORKLOADS for e in QUADTREES
+                       if (w, e) in q and (w, "stock") in q)
         L.append(f"| queries: no workload slower than stock | lowest {worst[0][0]:.2f}× ({worst[0][1]}, "
-                 f"{worst[0][2].replace('quadtree-', '')}) | {met(worst[0][0] >= 1.0)} |")
+                 f"{threads(worst[0][2])}) | {met(worst[0][0] >= 1.0)} |")
         for w, goal in QUERY_GOALS.items():
-            v = ratio(q.get((w, "stock"), {}).get("ms"), q.get((w, "quadtree-1t"), {}).get("ms"))
+            v = x_stock(q, (w,), "quadtree-1t", "ms")
             if v:
                 L.append(f"| queries: {w} ≥{goal:g}× stock (1 thread) | {v:.2f}× | {met(v >= goal)} |")
         bad = sorted({r["workload"] for r in d["queries"] if not r["same_hits_as_stock"]})
@@ -761,14 +736,12 @@ def headline(d, by, rp, level):
     cz = {(r["engine"], r["threads"], str(r["depth"])): r["n_max"] for r in d["circles"]}
     stock_c, brute_c = cz.get(("stock", 1, "auto")), cz.get(("pairwise", 1, "auto"))
     best_q = max([v for (e, t, dd), v in cz.items() if e == "quadtree"] or [0])
-    if best_q and stock_c:
-        L.append(f"| paper's protocol: quadphase ≥8× the stock tree's circles | {best_q:,} vs {stock_c:,} = "
-                 f"{best_q / stock_c:.1f}× (reference here: stock ≈{REFERENCE['circles_stock']:,}) | "
-                 f"{met(best_q >= 8 * stock_c)} |")
-    if best_q and brute_c:
-        L.append(f"| paper's protocol: quadphase ≥80× brute force | {best_q:,} vs {brute_c:,} = "
-                 f"{best_q / brute_c:.0f}× (reference here: brute ≈{REFERENCE['circles_brute']:,}) | "
-                 f"{met(best_q >= 80 * brute_c)} |")
+    for target, n, goal, digits, ref in (("the stock tree's circles", stock_c, 8, 1, "stock"),
+                                         ("brute force", brute_c, 80, 0, "brute")):
+        if best_q and n:
+            L.append(f"| paper's protocol: quadphase ≥{goal}× {target} | {best_q:,} vs {n:,} = "
+                     f"{best_q / n:.{digits}f}× (reference here: {ref} ≈{REFERENCE['circles_' + ref]:,}) | "
+                     f"{met(best_q >= goal * n)} |")
     mem = [(q_["bytes_per_proxy"] / a["bytes_per_proxy"], s, n, q_["bytes_per_proxy"], a["bytes_per_proxy"])
            for s, n in replay_cases for a, q_ in [(rp.get((s, n, "stock")), rp.get((s, n, "quadtree-1t")))]
            if a and q_ and a.get("bytes_per_proxy") and q_.get("bytes_per_proxy")]
@@ -783,82 +756,82 @@ def step_section(d, by, plots):
     if not d["step"]:
         return []
     ccd = {r.get("continuous") for r in d["step"]}
-    L = section("## 1. In-engine step benchmark", plots, "step", "stock / quadtree time per scene", "Medians over rounds of each run's median step (ms), at Box2D's defaults: continuous collision "
-          f"{'on' if ccd == {1} else 'off' if ccd == {0} else 'not recorded or mixed'}, the quadtree's "
-          "default Config with OMP_NUM_THREADS=1 (1t) and 2 (2t). *bp share* = stock's b2Profile::broadphase ÷ "
-          "step: where it is small, no broadphase can change the step much. Contacts and new pairs must match "
-          "between the builds (same simulation).")
-    rows = []
-    cases = sorted({(r["scene"], r["size"]) for r in d["step"]})
-    for s, n in cases:
+    L = section("## 1. In-engine step benchmark",
+                "Medians over rounds of each run's median step (ms), at Box2D's defaults: continuous collision "
+                f"{'on' if ccd == {1} else 'off' if ccd == {0} else 'not recorded or mixed'}, the quadtree's "
+                "default Config with OMP_NUM_THREADS=1 (1t) and 2 (2t). *bp share* = stock's b2Profile::broadphase ÷ "
+                "step: where it is small, no broadphase can change the step much. Contacts and new pairs must match "
+                "between the builds (same simulation).", plots, "step", "stock / quadtree time per scene")
+    rows, small = [], []
+    for s, n in sorted({(r["scene"], r["size"]) for r in d["step"]}):
         a, q1, q2 = by.get((s, n, "stock")), by.get((s, n, "quadtree-1t")) or {}, by.get((s, n, "quadtree-2t")) or {}
-        if a:
-            share = ratio(a["broadphase_ms"], a["step_ms"])
-            rows.append([s, n, fmt(a["proxies"]), fmt(a["step_ms"]), fmt(a["broadphase_ms"]), f"{fmt(share and 100 * share, 0)}%",
-                         fmt(q1.get("step_ms")), fmt(q1.get("broadphase_ms")), fmt(q2.get("step_ms")),
-                         fmt(q2.get("broadphase_ms")),
-                         f"{fmt(ratio(a['step_ms'], q1.get('step_ms')))} / {fmt(ratio(a['step_ms'], q2.get('step_ms')))}",
-                         f"{fmt(ratio(a['broadphase_ms'], q1.get('broadphase_ms')))} / "
-                         f"{fmt(ratio(a['broadphase_ms'], q2.get('broadphase_ms')))}",
-                         f"{fmt(a['contacts_mean'], 0)} / {fmt(q1.get('contacts_mean'), 0)}",
-                         f"{fmt(a['new_pairs_per_step'], 1)} / {fmt(q1.get('new_pairs_per_step'), 1)}",
-                         f"{fmt(a['peak_rss_bytes'] / 1048576, 1)} / "
-                         f"{fmt(q1.get('peak_rss_bytes') and q1['peak_rss_bytes'] / 1048576, 1)}",
-                         fmt(q1.get("bp_bytes_per_proxy"), 0)])
+        if not a:
+            continue
+        share = ratio(a["broadphase_ms"], a["step_ms"])
+        rows.append([s, n, fmt(a["proxies"]), fmt(a["step_ms"]), fmt(a["broadphase_ms"]),
+                     f"{fmt(share and 100 * share, 0)}%"]
+                    + [fmt(q.get(k)) for q in (q1, q2) for k in ("step_ms", "broadphase_ms")]
+                    + [" / ".join(fmt(x_stock(by, (s, n), e, k)) for e in QUADTREES)
+                       for k in ("step_ms", "broadphase_ms")]
+                    + [f"{fmt(a['contacts_mean'], 0)} / {fmt(q1.get('contacts_mean'), 0)}",
+                       f"{fmt(a['new_pairs_per_step'], 1)} / {fmt(q1.get('new_pairs_per_step'), 1)}",
+                       f"{fmt(a['peak_rss_bytes'] / 1048576, 1)} / "
+                       f"{fmt(q1.get('peak_rss_bytes') and q1['peak_rss_bytes'] / 1048576, 1)}",
+                       fmt(q1.get("bp_bytes_per_proxy"), 0)])
+        if (share or 1) < 0.10:
+            small.append(f"{s} {n} ({100 * share:.0f}%)")
     L += table(["scene", "size", "proxies", "stock step", "bp", "bp share", "1t step", "1t bp", "2t step", "2t bp",
                 "step × 1t / 2t", "bp × 1t / 2t", "contacts (stock / qt)", "new pairs/step", "peak RSS MB stock / qt",
                 "qt B/proxy"], rows) + [""]
-    small = [f"{s} {n} ({100 * ratio(by[(s, n, 'stock')]['broadphase_ms'], by[(s, n, 'stock')]['step_ms']):.0f}%)"
-             for s, n in cases if (s, n, "stock") in by
-             and (ratio(by[(s, n, 'stock')]['broadphase_ms'], by[(s, n, 'stock')]['step_ms']) or 1) < 0.10]
     if small:
         L += ["Where the broadphase is under 10% of stock's step, the whole-step ratio can only move by that much, "
               "and the differences are within the noise of this shared machine: " + ", ".join(small) + ".", ""]
     return L
 
 
+def steps_range(r, p):
+    """Phase p's steps of a row: first–last."""
+    return f"{r[p + '_first']:.0f}–{r[p + '_first'] + r[p + '_steps'] - 1:.0f}"
+
+
 def phase_lows(rows, fair=False):
     """(stock / quadtree broadphase, "scene size steps phase engine") for every measured phase, lowest first; fair:
     over the same steps (fair_phases)."""
-    by = {(r["scene"], r["size"], r["steps"], r["engine"]): r for r in rows}
+    by = keyed(rows, ("scene", "size", "steps", "engine"))
     if fair:
-        return sorted((v, f"{s} {n} ({q[f'fair_{p}_steps']} steps) {p} {e.replace('quadtree-', '')}")
+        return sorted((v, f"{s} {n} ({q[f'fair_{p}_steps']} steps) {p} {threads(e)}")
                       for (s, n, st, e), q in by.items() if e != "stock" for p in PHASES if q.get(f"fair_{p}_steps")
                       for v in [ratio(q[f"fair_{p}_stock_bp_ms"], q[f"fair_{p}_bp_ms"])] if v)
-    return sorted((v, f"{s} {n} (steps {a[p + '_first']:.0f}–{a[p + '_first'] + a[p + '_steps'] - 1:.0f}) {p} "
-                      f"{e.replace('quadtree-', '')}")
+    return sorted((v, f"{s} {n} (steps {steps_range(a, p)}) {p} {threads(e)}")
                   for (s, n, st, e), q in by.items() if e != "stock" for a in [by.get((s, n, st, "stock"))] if a
-                  for p in PHASES if a.get(p + "_steps") for v in [ratio(a[p + "_broadphase_ms"], q[p + "_broadphase_ms"])]
-                  if v)
+                  for p in PHASES if a.get(p + "_steps")
+                  for v in [ratio(a[p + "_broadphase_ms"], q[p + "_broadphase_ms"])] if v)
 
 
 def phase_section(data, levels):
     if not any(data[lv]["phases"] for lv in levels):
         return []
-    L = ["## 1b. In-engine, by phase: falling, piling, resting", "",
-         "The scene from its first step (no warm-up), continuous collision on (Box2D's default; column CCD), the "
-         "quadtree at its default Config with OMP_NUM_THREADS=1 and 2. Each step is put in a phase from the world "
-         "after it (qp-step, untimed): with D dynamic bodies, *falling* while fewer than 1% of them touch a static body "
-         "(in rain: until the bottom row of the spawn grid lands), "
-         "*resting* once fewer than 5% are awake and faster than 0.5 m/s, *piling* in between; a phase never goes "
-         "back. Medians over the phase's steps, then over the rounds; ratios = stock ÷ quadtree (> 1: quadphase "
-         "faster). The builds create new contacts in different orders (both valid), so the simulations drift apart "
-         "and each build's phases are its own steps (the *steps* column).", ""]
+    L = section("## 1b. In-engine, by phase: falling, piling, resting",
+                "The scene from its first step (no warm-up), continuous collision on (Box2D's default; column CCD), "
+                "the quadtree at its default Config with OMP_NUM_THREADS=1 and 2. Each step is put in a phase from the "
+                "world after it (qp-step, untimed): with D dynamic bodies, *falling* while fewer than 1% of them touch "
+                "a static body (in rain: until the bottom row of the spawn grid lands), *resting* once fewer than 5% "
+                "are awake and faster than 0.5 m/s, *piling* in between; a phase never goes back. Medians over the "
+                "phase's steps, then over the rounds; ratios = stock ÷ quadtree (> 1: quadphase faster). The builds "
+                "create new contacts in different orders (both valid), so the simulations drift apart and each "
+                "build's phases are its own steps (the *steps* column).")
     rows = []
     for lv in levels:
-        by = {(r["scene"], r["size"], r["steps"], r["engine"]): r for r in data[lv]["phases"]}
+        by = keyed(data[lv]["phases"], ("scene", "size", "steps", "engine"))
         for (s, n, st, e), a in sorted(by.items()):
-            if e != "stock":
-                continue
-            for p in PHASES:
-                if not a.get(p + "_steps"):
-                    continue
-                q1, q2 = by.get((s, n, st, "quadtree-1t")) or {}, by.get((s, n, st, "quadtree-2t")) or {}
-                rows.append([lv, f"{s} {n}", "on" if a.get("continuous") else "off", p, " / ".join(
-                    f"{r[p + '_first']:.0f}–{r[p + '_first'] + r[p + '_steps'] - 1:.0f}" if r.get(p + "_steps") else "–"
-                    for r in (a, q1, q2))] + [fmt(r.get(p + "_broadphase_ms"), 3) for r in (a, q1, q2)] + [
-                    " / ".join(fmt(ratio(a[p + "_broadphase_ms"], q.get(p + "_broadphase_ms"))) for q in (q1, q2)),
-                    fmt(a[p + "_step_ms"]), " / ".join(fmt(ratio(a[p + "_step_ms"], q.get(p + "_step_ms"))) for q in (q1, q2))])
+            qs = [by.get((s, n, st, q)) or {} for q in QUADTREES]
+            for p in (p for p in PHASES if e == "stock" and a.get(p + "_steps")):
+                bp, step = p + "_broadphase_ms", p + "_step_ms"
+                rows.append([lv, f"{s} {n}", "on" if a.get("continuous") else "off", p,
+                             " / ".join(steps_range(r, p) if r.get(p + "_steps") else "–" for r in [a] + qs)]
+                            + [fmt(r.get(bp), 3) for r in [a] + qs]
+                            + [" / ".join(fmt(ratio(a[bp], q.get(bp))) for q in qs), fmt(a[step]),
+                               " / ".join(fmt(ratio(a[step], q.get(step))) for q in qs)])
     L += table(["opt", "scene", "CCD", "phase", "steps: stock / 1t / 2t", "stock bp ms", "1t bp ms", "2t bp ms",
                 "bp × 1t / 2t", "stock step ms", "step × 1t / 2t"], rows) + [""]
     L += ["**The same steps in both builds.** The table above compares each build's own phases, which drift apart "
@@ -866,7 +839,7 @@ def phase_section(data, levels):
           "stock run's, and *resting* counts only the steps where both builds rest; medians over those steps of "
           "the per-step medians over rounds. *µs per awake body*: each build's broadphase time over its own "
           "phase's steps ÷ the awake dynamic bodies summed over them (a normalisation by the moving proxies).", ""]
-    rows = [[lv, f"{r['scene']} {r['size']}", r["engine"].replace("quadtree-", ""), p, r.get(f"fair_{p}_steps"),
+    rows = [[lv, f"{r['scene']} {r['size']}", threads(r["engine"]), p, r.get(f"fair_{p}_steps"),
              fmt(r.get(f"fair_{p}_stock_bp_ms"), 3), fmt(r.get(f"fair_{p}_bp_ms"), 3),
              fmt(ratio(r.get(f"fair_{p}_stock_bp_ms"), r.get(f"fair_{p}_bp_ms"))),
              f"{fmt(r.get(f'{p}_stock_us_per_awake'), 3)} / {fmt(r.get(f'{p}_qt_us_per_awake'), 3)}"]
@@ -879,29 +852,26 @@ def phase_section(data, levels):
 def replay_section(d, rp, plots):
     if not d["replay"]:
         return []
-    L = section("## 2. Broadphase replay (identical trace)", plots, "replay", "time against N, every broadphase",
-                "Broadphase work per step (every recorded call of the step: Create/Destroy/Move/Touch and UpdatePairs with "
-                "its pair output), medians over rounds. *exact*: the sorted pair set of every UpdatePairs call (warm-up "
-                "included) hashed and compared with stock's. *B/proxy*: heap held by the engine after the trace ÷ live "
-                "proxies. Chipmunk2D and Bullet run under Box2D's protocol (the same fat boxes and move buffer, one query "
-                "per buffered proxy).")
+    L = section("## 2. Broadphase replay (identical trace)",
+                "Broadphase work per step (every recorded call of the step: Create/Destroy/Move/Touch and UpdatePairs "
+                "with its pair output), medians over rounds. *exact*: the sorted pair set of every UpdatePairs call "
+                "(warm-up included) hashed and compared with stock's. *B/proxy*: heap held by the engine after the "
+                "trace ÷ live proxies. Chipmunk2D and Bullet run under Box2D's protocol (the same fat boxes and move "
+                "buffer, one query per buffered proxy).", plots, "replay", "time against N, every broadphase")
     rows = []
     for s, n in sorted({(r["scene"], r["size"]) for r in d["replay"]}):
-        a = rp.get((s, n, "stock"))
-        for e in REPLAY_ENGINES:
-            r = rp.get((s, n, e))
-            if r:
-                ex = r.get("exact", "")
-                if e == "paper" and r.get("missed_pct") is not None:
-                    ex = (f"no: misses {r['missed_pct']:.2f}% of the pairs, {r['duplicates_pct']:.2f}% duplicates "
-                          f"(levels {r.get('levels')})")
-                own = e != "null"
-                sp = ratio(a and a["ms_per_step"], r["ms_per_step"]) if own and e != "stock" else None
-                rows.append([f"{s} {n}", ENGINE_LABEL[e], r.get("mode", ""), fmt(r["ms_per_step"], 3),
-                             fmt(r["ns_per_proxy_step"], 1),
-                             fmt(sp) + "×" if sp else "", fmt(r["pairs_per_step"], 0) if own else "",
-                             fmt(r["bytes_per_proxy"], 0) if own else "", ex])
-    L += table(["trace", "engine", "mode", "ms/step", "ns/proxy/step", "× stock", "pairs/step", "B/proxy", "exact"], rows)
+        for e in (e for e in REPLAY_ENGINES if (s, n, e) in rp):
+            r, own = rp[(s, n, e)], e != "null"
+            ex = r.get("exact", "")
+            if e == "paper" and r.get("missed_pct") is not None:
+                ex = (f"no: misses {r['missed_pct']:.2f}% of the pairs, {r['duplicates_pct']:.2f}% duplicates "
+                      f"(levels {r.get('levels')})")
+            sp = x_stock(rp, (s, n), e, "ms_per_step") if own and e != "stock" else None
+            rows.append([f"{s} {n}", ENGINE_LABEL[e], r.get("mode", ""), fmt(r["ms_per_step"], 3),
+                         fmt(r["ns_per_proxy_step"], 1), report.times(sp), fmt(r["pairs_per_step"], 0) if own else "",
+                         fmt(r["bytes_per_proxy"], 0) if own else "", ex])
+    L += table(["trace", "engine", "mode", "ms/step", "ns/proxy/step", "× stock", "pairs/step", "B/proxy", "exact"],
+               rows)
     bad = [f"{r['scene']} {r['size']} {r['engine']}" for r in d["replay"] if r.get("exact") == "MISMATCH"]
     L += ["", "**PAIR SET MISMATCHES: " + ", ".join(bad) + "**" if bad else
           "Every exact engine gave its reference pair set on every UpdatePairs call of every trace (protocol mode: "
@@ -931,42 +901,39 @@ def replay_section(d, rp, plots):
 def levels_section(data, levels):
     if len(levels) < 2:
         return []
-    L = ["## 2b. Both optimisation levels", "",
-         "The replay's headline and the in-engine ratios at every level (each level: a stock and a quadphase build "
-         "from the same source with the same flags). Ratios = stock ÷ quadtree.", ""]
+    L = section("## 2c. Both optimisation levels",
+                "The replay's headline and the in-engine ratios at every level (each level: a stock and a quadphase "
+                "build from the same source with the same flags). Ratios = stock ÷ quadtree.")
     rows = []
     for lv in levels:
         for part, what, field, unit in (("replay", "replay", "ms_per_step", " ms/step"),
                                         ("step", "in-engine bp", "broadphase_ms", " ms")):
-            by = {(r["scene"], r["size"], r["engine"]): r for r in data[lv][part]}
-            rows += [[lv, f"{what} {s} {n}", fmt(a[field], 3) + unit] + [
-                fmt(ratio(a[field], (by.get((s, n, e)) or {}).get(field))) + "×" for e in ("quadtree-1t", "quadtree-2t")]
-                for (s, n, e0), a in sorted(by.items()) if e0 == "stock"]
+            by = keyed(data[lv][part])
+            rows += [[lv, f"{what} {s} {n}", fmt(a[field], 3) + unit]
+                     + [fmt(x_stock(by, (s, n), e, field)) + "×" for e in QUADTREES]
+                     for (s, n, e0), a in sorted(by.items()) if e0 == "stock"]
     return L + table(["opt", "what", "stock", "quadphase 1t", "quadphase 2t"], rows) + [""]
 
 
 def query_section(d):
     if not d["queries"]:
         return []
-    q = {(r["workload"], r["engine"]): r for r in d["queries"]}
-    r0 = d["queries"][0]
-    L = ["## 3. Queries through b2World (issue 19)", "",
-         f"`qp-query-stock` and `qp-query-quadtree` (one source, two builds): {r0['bodies']:,} sleeping boxes "
-         "(half sides 0.25–1 m) over a 1 km square, no gravity, stepped once. Each workload is timed as a whole "
-         "(ms for all its queries; median of the tool's repeats, then over the rounds); the quadtree at its default "
-         "Config with OMP_NUM_THREADS=1 and 2. *× stock* = stock ÷ quadtree (> 1: quadphase faster). *hits*: fixtures reported per "
-         "repeat (closest hit: rays that hit; the step: contacts after it). Every query's fixture ids are sorted and "
-         "hashed, closest-hit rays as (fixture, fraction); *same hits* compares the "
-         "hashes with stock's.", ""]
+    q = keyed(d["queries"], ("workload", "engine"))
+    L = section("## 3. Queries through b2World (issue 19)",
+                f"`qp-query-stock` and `qp-query-quadtree` (one source, two builds): {d['queries'][0]['bodies']:,} "
+                "sleeping boxes (half sides 0.25–1 m) over a 1 km square, no gravity, stepped once. Each workload is "
+                "timed as a whole (ms for all its queries; median of the tool's repeats, then over the rounds); the "
+                "quadtree at its default Config with OMP_NUM_THREADS=1 and 2. *× stock* = stock ÷ quadtree (> 1: "
+                "quadphase faster). *hits*: fixtures reported per repeat (closest hit: rays that hit; the step: "
+                "contacts after it). Every query's fixture ids are sorted and hashed, closest-hit rays as (fixture, "
+                "fraction); *same hits* compares the hashes with stock's.")
     rows = []
     for w, what in QUERY_WORKLOADS:
-        a = q.get((w, "stock"))
+        a, qs = q.get((w, "stock")), [q.get((w, e)) or {} for e in QUADTREES]
         if a:
             rows.append([what.format(**a), fmt(a["queries"], 0), fmt(a["hits"], 0), fmt(a["ms"], 3)]
-                        + [x for e in ("quadtree-1t", "quadtree-2t") for x in (
-                            fmt((q.get((w, e)) or {}).get("ms"), 3), fmt(ratio(a["ms"], (q.get((w, e)) or {}).get("ms"))))]
-                        + ["yes" if all((q.get((w, e)) or {}).get("same_hits_as_stock") for e in ("quadtree-1t", "quadtree-2t"))
-                           else "**NO**"])
+                        + [x for r in qs for x in (fmt(r.get("ms"), 3), fmt(ratio(a["ms"], r.get("ms"))))]
+                        + ["yes" if all(r.get("same_hits_as_stock") for r in qs) else "**NO**"])
     return L + table(["workload", "queries", "hits", "stock ms", "1t ms", "× stock", "2t ms", "× stock", "same hits"],
                      rows) + [""]
 
@@ -976,15 +943,16 @@ def circles_section(d, plots):
              "quadtree": "quadphase"}
     if not d["circles"]:
         return []
-    L = section("## 4. The paper's protocol: circles under 20 ms per frame", plots, "circles", "circles under 20 ms",
+    L = section("## 4. The paper's protocol: circles under 20 ms per frame",
                 "Largest N whose collision detection (broadphase + circle-circle test of the candidates; for stock and "
-                "quadphase also Box2D's persistent pair list) takes under 20 ms per frame, median of 3 repeats; N doubled "
-                "then bisected. Circles r = 0.5 m at area fraction 0.15 (world grows with N), 1–5 m/s. The paper's numbers "
-                "are from its own machines and world (published Tables 1 and 2; brute force 1,360 on its i7-7500U, 2,630 "
-                "on its Ryzen 7 1700; best quadtree 54,000 / 58,900).")
+                "quadphase also Box2D's persistent pair list) takes under 20 ms per frame, median of 3 repeats; N "
+                "doubled then bisected. Circles r = 0.5 m at area fraction 0.15 (world grows with N), 1–5 m/s. The "
+                "paper's numbers are from its own machines and world (published Tables 1 and 2; brute force 1,360 on "
+                "its i7-7500U, 2,630 on its Ryzen 7 1700; best quadtree 54,000 / 58,900).",
+                plots, "circles", "circles under 20 ms")
     L += table(["engine", "threads", "depth", "circles (here)", "capped"], [
-        [names[r["engine"]], r["threads"], r["depth"] if r["engine"] in ("paper", "quadtree") else "–", f"{r['n_max']:,}",
-         "yes: time cap, a lower bound" if r["capped"] else ""] for r in d["circles"]])
+        [names[r["engine"]], r["threads"], r["depth"] if r["engine"] in ("paper", "quadtree") else "–",
+         f"{r['n_max']:,}", "yes: time cap, a lower bound" if r["capped"] else ""] for r in d["circles"]])
     return L + ["", "The paper (published): " + "; ".join(
         f"{cpu}: " + ", ".join(f"{k} {max(v):,}" for k, v in t.items()) for cpu, t in paper.TABLES.items())
         + " (best over levels 4–9).", ""]

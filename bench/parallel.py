@@ -10,14 +10,12 @@ bench/results/parallel.md, parallel.csv and parallel.png. See bench/README.md fo
 import argparse
 import math
 import os
-import random
-import statistics
 import sys
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from qpbench import machine, paper, plot, report, run  # noqa: E402
+from qpbench import machine, paper, plot, report, run, stats  # noqa: E402
 from qpbench.report import fixed as fmt, table  # noqa: E402
 from qpbench.stats import amdahl, karp_flatt, round_ratios  # noqa: E402
 
@@ -27,7 +25,8 @@ PROFILE_OPTIONS = [("repeats", 7, 11, "timed rounds"), ("table-warmup", 60, 120,
                    ("table-steps", 30, 60, "(a) timed steps"), ("particles-warmup", 60, 120, "(b) particles warm-up"),
                    ("particles-steps", 30, 60, "(b) particles timed steps"),
                    ("rain-warmup", 120, 600, "(b) rain warm-up: bodies falling (quick), pile forming (full)"),
-                   ("rain-steps", 30, 60, "(b) rain timed steps"), ("sweep-bullets-size", 1000, 2000, "(c) bullets size"),
+                   ("rain-steps", 30, 60, "(b) rain timed steps"),
+                   ("sweep-bullets-size", 1000, 2000, "(c) bullets size"),
                    ("sweep-steps", 60, 120, "(c) sweep timed steps")]
 
 
@@ -77,7 +76,9 @@ def log(msg):
 # The core's default parallelThreshold and schedule (qp-replay --print-config), read at start.
 DEFAULT = {"threshold": 512, "schedule": "guided"}
 SCHEDULES = ("static", "dynamic", "guided")
-ROWS_A = ((1, "static"), (2, "static"), (2, "dynamic"), (2, "guided"))
+ROWS_A = ((1, "static"), (2, "static"), (2, "dynamic"), (2, "guided"))  # the rows of table (a): threads, schedule
+CONFIG = ("threads", "schedule", "depth", "threshold", "chunk")  # a configuration's fields, in qp-replay's order
+NAN = float("nan")
 
 
 def set_defaults(default_config):
@@ -93,16 +94,19 @@ def cfg(threads=1, schedule=None, depth="auto", threshold=None, chunk=0):
             "threshold": DEFAULT["threshold"] if threshold is None else threshold, "chunk": chunk}
 
 
-def cfg_arg(c):
-    return "threads={threads},schedule={schedule},depth={depth},threshold={threshold},chunk={chunk}".format(**c)
-
-
-def cfg_key(c):
-    return (c["threads"], c["schedule"], c["depth"], c["threshold"], c["chunk"])
+def config_args(configs):
+    """qp-replay's --config arguments: threads=T,schedule=S,depth=D,threshold=P,chunk=C for each configuration."""
+    return [x for c in configs for x in ("--config", ",".join(f"{k}={c[k]}" for k in CONFIG))]
 
 
 def med(values):
-    return statistics.median(values) if values else float("nan")
+    """The median; NaN when there are no values."""
+    return stats.med(values, NAN)
+
+
+def median_of(value):
+    """A method of Results: the median of value(run) over the timed runs of a key."""
+    return lambda self, key: med([value(r) for r in self.runs.get(key, [])])
 
 
 class Results:
@@ -114,46 +118,25 @@ class Results:
             if r.get("kind") == "omp_overhead":
                 self.omp.append(r)
                 continue
-            trace = r.get("trace")
-            if r.get("engine") == "stock":
-                key = (trace, "stock")
-            elif r.get("engine") == "null":
-                key = (trace, "null")
-            else:
-                key = (trace, "quadtree", r["threads"], r["schedule"], r["depth"], r["threshold"], r["chunk"])
+            trace, engine = r.get("trace"), r.get("engine")
+            key = (trace, engine) if engine in ("stock", "null") else self.key(trace, r)
             if r.get("kind") == "run":
                 self.runs.setdefault(key, []).append(r)
             elif r.get("kind") == "check":
-                (self.stock_checks if r.get("engine") == "stock" else self.checks)[
-                    trace if r.get("engine") == "stock" else key] = r
+                (self.stock_checks if engine == "stock" else self.checks)[trace if engine == "stock" else key] = r
 
     def key(self, trace, c):
-        return (trace, "quadtree") + cfg_key(c)
+        return (trace, "quadtree") + tuple(c[k] for k in CONFIG)
 
-    def series(self, key, field):
-        return [r[field] for r in self.runs.get(key, [])]
+    step_ms = median_of(lambda r: r["step_ns"] * 1e-6)
+    find_ms = median_of(lambda r: r["find_ns"] * 1e-6)
+    maint_ms = median_of(lambda r: (r["step_ns"] - r["find_ns"]) * 1e-6)  # outside FindPairs
+    replace_ms = median_of(lambda r: r.get("replace_s", 0.0) * 1e3 / max(1, r["steps"]))
+    ns_per_proxy = median_of(lambda r: r["ns_per_proxy_step"])
 
-    def step_ms(self, key):
-        return med([x * 1e-6 for x in self.series(key, "step_ns")])
-
-    def find_ms(self, key):
-        return med([x * 1e-6 for x in self.series(key, "find_ns")])
-
-    def maint_ms(self, key):
-        return med([(r["step_ns"] - r["find_ns"]) * 1e-6 for r in self.runs.get(key, [])])
-
-    def replace_ms(self, key):
-        return med([r.get("replace_s", 0.0) * 1e3 / max(1, r["steps"]) for r in self.runs.get(key, [])])
-
-    def ns_per_proxy(self, key):
-        return med(self.series(key, "ns_per_proxy_step"))
-
-    def first(self, key, field, default=float("nan")):
+    def first(self, key, field, default=NAN):
         runs = self.runs.get(key, [])
         return runs[0].get(field, default) if runs else default
-
-    def reps(self, key):
-        return len(self.runs.get(key, []))
 
     def ratios(self, key_num, key_den, field="step_ns"):
         return round_ratios(self.runs.get(key_num, []), self.runs.get(key_den, []), field)
@@ -165,27 +148,28 @@ class Results:
 def plan(args):
     """Jobs: (section, scene, size, warmup, steps, configs, check mode, brute force, ...)."""
     jobs = []
+
+    def job(section, scene, size, warmup, steps, configs, brute=False, separate=None, **more):
+        jobs.append(dict(section=section, scene=scene, size=size, warmup=warmup, steps=steps, configs=configs,
+                         **({"separate": separate} if separate else {}), check="all", brute=brute, **more))
+
     if args.sections & {"a", "e"}:
-        configs = [c for d in args.depths for c in [cfg(1, "static", d)] + [cfg(2, s, d) for s in ("static", "dynamic", "guided")]]
-        jobs.append(dict(section="a", scene="particles", size=args.table_size, warmup=args.table_warmup,
-                         steps=args.table_steps, configs=configs, check="all", brute=False))
+        job("a", "particles", args.table_size, args.table_warmup, args.table_steps,
+            [cfg(th, sch, d) for d in args.depths for th, sch in ROWS_A])
     if args.sections & {"b", "d", "e"}:
         for scene, size, w, s in (("particles", args.particles_size, args.particles_warmup, args.particles_steps),
                                   ("rain", args.rain_size, args.rain_warmup, args.rain_steps)):
-            jobs.append(dict(section="b", scene=scene, size=size, warmup=w, steps=s,
-                             configs=[cfg(1), cfg(2)] + ([cfg(2, "static")] if DEFAULT["schedule"] != "static" else []),
-                             check="all", brute=False))
+            job("b", scene, size, w, s,
+                [cfg(1), cfg(2)] + ([cfg(2, "static")] if DEFAULT["schedule"] != "static" else []))
     if "c" in args.sections:
         for scene in ("rain", "particles"):
             # Threshold 0 (every call parallel) runs in a process of its own, after the others, so its worker
             # thread cannot disturb the 1-thread / 2-thread comparison. Steps of a few µs: 5 runs per round.
-            jobs.append(dict(section="c-small", scene=scene, size=args.small_size, warmup=args.small_warmup,
-                             steps=args.small_steps, configs=[cfg(1), cfg(2)], separate=[cfg(2, threshold=0)],
-                             check="all", brute=True, per_call=True, inner=5))
+            job("c-small", scene, args.small_size, args.small_warmup, args.small_steps, [cfg(1), cfg(2)], True,
+                [cfg(2, threshold=0)], per_call=True, inner=5)
         for scene, size in (("particles", args.sweep_particles_size), ("bullets", args.sweep_bullets_size)):
-            jobs.append(dict(section="c-sweep", scene=scene, size=size, warmup=args.sweep_warmup,
-                             steps=args.sweep_steps, configs=[cfg(1)] + [cfg(2, threshold=t) for t in args.thresholds],
-                             check="all", brute=size <= 2500, per_call=True))
+            job("c-sweep", scene, size, args.sweep_warmup, args.sweep_steps,
+                [cfg(1)] + [cfg(2, threshold=t) for t in args.thresholds], size <= 2500, per_call=True)
     return jobs
 
 
@@ -231,14 +215,11 @@ def main():
         argv = ["--trace", j["trace"], "--repeats", 0, "--check", j["check"], "--compare-hashes", stock_hash,
                 "--hashes-out", quad_hash, "--json", runner.jsonl, "--label", j["section"]]
         argv += (["--brute"] if j["brute"] else []) + (["--per-call"] if j.get("per_call") else [])
-        for c in j["configs"] + j.get("separate", []):
-            argv += ["--config", cfg_arg(c)]
-        code, out = runner.run("qp-replay", *argv, ok_codes=(0, 3))
+        code, out = runner.run("qp-replay", *argv, *config_args(j["configs"] + j.get("separate", [])),
+                               ok_codes=(0, 3))
         bad = compare_hash_files(quad_hash, stock_hash)  # the script's own comparison, independent of qp-replay's
-        if code == 3 or bad:
-            for line in out.splitlines():
-                if "MISMATCH" in line:
-                    log("    " + line)
+        for line in [ln for ln in out.splitlines() if "MISMATCH" in ln] if code == 3 or bad else []:
+            log("    " + line)
         mismatches[j["name"]] = mismatches.get(j["name"], 0) + bad + (1 if code == 3 else 0)
         n_calls = sum(1 for line in open(stock_hash) if not line.startswith("#"))
         log(f"  {j['name']}: {n_calls} UpdatePairs calls, "
@@ -264,11 +245,10 @@ def main():
             per_call = ["--per-call"] if j.get("per_call") else []
             # The configurations run in a different (seeded) random order in every round, so a burst of other
             # activity on the machine does not always hit the same neighbours.
-            order = list(j["configs"])
-            random.Random(1000 * r + len(order)).shuffle(order)
-            runner.run("qp-replay", *common, *per_call, *[x for c in order for x in ("--config", cfg_arg(c))])
+            order = run.shuffled(j["configs"], 1000 * r + len(j["configs"]))
+            runner.run("qp-replay", *common, *per_call, *config_args(order))
             for c in j.get("separate", []):
-                runner.run("qp-replay", *common, "--config", cfg_arg(c), *per_call)
+                runner.run("qp-replay", *common, *config_args([c]), *per_call)
         log(f"  round {r + 1}/{args.repeats}: {time.time() - tr:.0f} s (other processes used {busy:.2f} CPUs "
             f"before it)")
     t_timed = time.time() - t0
@@ -292,44 +272,66 @@ def compare_hash_files(a, b):
 # ----------------------------------------------------------------------------------------------------------------
 # Report
 # ----------------------------------------------------------------------------------------------------------------
-def rain_floor_steps(n):
-    """Steps until the bottom row of rain's spawn grid reaches the floor (scene formulas; drag 1/s, g 10)."""
-    width = math.floor(3.0 * math.sqrt(n) + 20.0)
-    wall = math.ceil(1.3 * n * 0.75 / width + 5.0)
-    y0 = wall + 2.0
+def rain_note(j):
+    """Where rain's bodies are during the timed steps, from the steps until the bottom row of its spawn grid reaches
+    the floor (scene formulas; drag 1/s, g 10)."""
+    width = math.floor(3.0 * math.sqrt(j["size"]) + 20.0)
+    y0 = math.ceil(1.3 * j["size"] * 0.75 / width + 5.0) + 2.0  # the wall's height + 2
     # v(t) = 10 (1 - e^-t) (start speed ~ -1 m/s ignored); fallen distance 10 (t - 1 + e^-t)
     t = 0.0
     while 10.0 * (t - 1.0 + math.exp(-t)) < y0:
         t += 1.0 / 60.0
-    return int(round(t * 60.0))
+    fl = int(round(t * 60.0))
+    return (f" — the bodies are still falling (the bottom row of the spawn grid reaches the floor after about {fl} "
+            "steps, so no pile yet and no time-of-impact events)" if j["warmup"] + j["steps"] < fl else
+            f" — the pile is forming (the bottom row reaches the floor after about {fl} steps)")
+
+
+def tab(header, rows):
+    """report.table with the header cells given as one "a | b | c" string."""
+    return table(header.split(" | "), rows)
+
+
+def bold(values, best, f=str):
+    return [f"**{f(v)}**" if v == best else f(v) for v in values]
+
+
+def span(values, digits=2):
+    """"min–max" of the per-round ratios."""
+    return f"{fmt(min(values) if values else None, digits)}–{fmt(max(values) if values else None, digits)}"
+
+
+def steps_label(j):
+    return f"{j['display']} ({j['warmup']} + {j['steps']} steps)"
 
 
 def report_all(args, info, jobs, res, mismatches, timing):
-    md = []
-    csv_rows = []
-    sec = {}
+    md, csv_rows, sec = [], [], {}
     for j in jobs:
         sec.setdefault(j["section"], []).append(j)
+    dflt, sched = DEFAULT["threshold"], DEFAULT["schedule"]
 
-    def csv_add(section, j, engine, c, key):
-        csv_rows.append({
-            "section": section, "scene": j["scene"], "size": j["size"], "warmup_steps": j["warmup"],
-            "timed_steps": j["steps"], "engine": engine,
-            "threads": c["threads"] if c else "", "schedule": c["schedule"] if c else "",
-            "depth": ("auto" if c["depth"] < 0 else c["depth"]) if c else "",
-            "depth_used": res.first(key, "depth_used", "") if engine == "quadtree" else "",
-            "threshold": c["threshold"] if c else "",
-            "rounds": res.reps(key),
-            "ms_per_step": fmt(res.step_ms(key), 4), "find_ms_per_step": fmt(res.find_ms(key), 4),
-            "outside_findpairs_ms_per_step": fmt(res.maint_ms(key), 4),
-            "replacement_ms_per_step": fmt(res.replace_ms(key), 4) if engine == "quadtree" else "",
-            "ns_per_proxy_step": fmt(res.ns_per_proxy(key), 1),
-            "mean_proxies": fmt(res.first(key, "mean_proxies"), 0),
-            "pairs_per_step": fmt(res.first(key, "pairs_per_step"), 1),
-            "updatepairs_calls_per_step": fmt(res.first(key, "calls_per_step"), 2),
-            "parallel_regions_per_step": fmt(res.first(key, "parallel_calls", float("nan")) /
-                                             max(1, res.first(key, "steps", 1)), 2) if engine == "quadtree" else "",
-        })
+    def key(j, *a, **kw):  # the quadtree configuration cfg(*a, **kw) on job j's trace
+        return res.key(j["name"], cfg(*a, **kw))
+
+    def csv_add(section, j, *configs):
+        """A row of parallel.csv per configuration: a quadtree one (cfg) or the engine "stock" / "null"."""
+        for c in configs:
+            q = isinstance(c, dict)
+            k, d = (res.key(j["name"], c), c) if q else ((j["name"], c), dict.fromkeys(CONFIG, ""))
+            csv_rows.append(dict(
+                section=section, scene=j["scene"], size=j["size"], warmup_steps=j["warmup"], timed_steps=j["steps"],
+                engine="quadtree" if q else c, threads=d["threads"], schedule=d["schedule"],
+                depth="auto" if q and d["depth"] < 0 else d["depth"],
+                depth_used=res.first(k, "depth_used", "") if q else "", threshold=d["threshold"],
+                rounds=len(res.runs.get(k, [])), ms_per_step=fmt(res.step_ms(k), 4),
+                find_ms_per_step=fmt(res.find_ms(k), 4), outside_findpairs_ms_per_step=fmt(res.maint_ms(k), 4),
+                replacement_ms_per_step=fmt(res.replace_ms(k), 4) if q else "",
+                ns_per_proxy_step=fmt(res.ns_per_proxy(k), 1), mean_proxies=fmt(res.first(k, "mean_proxies"), 0),
+                pairs_per_step=fmt(res.first(k, "pairs_per_step"), 1),
+                updatepairs_calls_per_step=fmt(res.first(k, "calls_per_step"), 2),
+                parallel_regions_per_step=fmt(res.first(k, "parallel_calls", NAN) / max(1, res.first(k, "steps", 1)), 2)
+                if q else ""))
 
     info.setdefault("quiet_samples", info.get("quiet", []))
     md.append("# Parallel pair generation: measurements\n")
@@ -342,14 +344,14 @@ def report_all(args, info, jobs, res, mismatches, timing):
         md.append(args.note + "\n")
     md += report.machine_section(info)[:-1]
     md.append(f"- The script waited up to {args.wait_quiet:.0f} s before each timed round for other processes to use "
-              f"< {args.quiet_cpus} CPUs (they may have started more work during a round). Every figure is the median "
-              "over the rounds; every round ran every configuration (stock included) once, in a different random order.")
+              f"< {args.quiet_cpus} CPUs (they may have started more work during a round). Every figure is the "
+              "median over the rounds; every round ran every configuration (stock included) once, in a different "
+              "random order.")
     omp = {(o["schedule"], o["blocks"]): o["us"] for o in res.omp}
+    omp64 = ", ".join(f"{s} {fmt(omp.get((s, 64)), 1)} µs" for s in SCHEDULES) if omp else ""
     if omp:
-        md.append("- Cost of one OpenMP parallel region (2 threads, empty loop, regions back to back, so the "
-                  "worker is already spinning): " + ", ".join(
-                      f"{s} {fmt(omp.get((s, 64)), 1)} µs" for s in ("static", "dynamic", "guided"))
-                  + " for 64 iterations; " + f"{fmt(omp.get(('static', 1)), 1)} µs for 1.")
+        md.append("- Cost of one OpenMP parallel region (2 threads, empty loop, regions back to back, so the worker "
+                  f"is already spinning): {omp64} for 64 iterations; {fmt(omp.get(('static', 1)), 1)} µs for 1.")
     md.append("")
 
     # ---------------- exactness ----------------
@@ -361,54 +363,34 @@ def report_all(args, info, jobs, res, mismatches, timing):
               "`b2BroadPhase` and through the quadtree; the sorted unique pair sets (in recorded ids) were hashed "
               "and compared call by call, by `qp-replay --compare-hashes` and again by this script; on the small "
               "traces also against `BruteForceBroadPhase`.\n")
-    md.append("| trace | UpdatePairs calls | quadtree configurations checked | result |")
-    md.append("|---|---|---|---|")
-    for j in jobs:
-        calls = res.stock_checks.get(j["name"], {}).get("calls_hashed", "–")
-        checked = [k for k in res.checks if k[0] == j["name"]]
-        md.append(f"| {j['display']} ({j['warmup']} + {j['steps']} steps) | {calls} | {len(checked)}"
-                  + (" + brute force" if j["brute"] else "") + " | "
-                  + ("**MISMATCH**" if mismatches.get(j["name"]) else "identical") + " |")
-    md.append("")
+    md += tab("trace | UpdatePairs calls | quadtree configurations checked | result", [
+        [steps_label(j), res.stock_checks.get(j["name"], {}).get("calls_hashed", "–"),
+         f"{sum(k[0] == j['name'] for k in res.checks)}" + (" + brute force" if j["brute"] else ""),
+         "**MISMATCH**" if mismatches.get(j["name"]) else "identical"] for j in jobs]) + [""]
 
     # ---------------- (a) ----------------
     ja = sec.get("a", [None])[0]
     if ja:
-        na = ja["name"]
-        rows = [("sequential (1 thread)", 1, "static"), ("static (2 threads)", 2, "static"),
-                ("dynamic (2 threads)", 2, "dynamic"), ("guided (2 threads)", 2, "guided")]
-        auto_depth = res.first(res.key(na, cfg(1, "static", "auto")), "depth_used", "?")
+        auto_depth = res.first(key(ja, 1, "static", "auto"), "depth_used", "?")
         md.append(f"## (a) The paper's Tables 1 and 2 on this machine: particles {ja['size']}\n")
         md.append(f"Broadphase work per step, median ms over {args.repeats} rounds ({ja['steps']} timed steps after "
                   f"{ja['warmup']} warm-up steps): all MoveProxy calls plus FindPairs. Lower is better (the paper's "
-                  "tables count objects handled within 20 ms: higher is better). Threshold " + str(DEFAULT["threshold"]) + " (the core's default), chunk 0 (OpenMP's "
-                  "default), blocks of 64 queries. Bold: the fastest of each row.\n")
-        hdr = "| schedule \\ depth | " + " | ".join(
-            f"auto (= {auto_depth})" if d == "auto" else d for d in args.depths) + " |"
-        for title, field in (("Whole broadphase work, ms/step", "step"), ("FindPairs only, ms/step", "find")):
-            md.append(f"**{title}**\n")
-            md.append(hdr)
-            md.append("|---" * (len(args.depths) + 1) + "|")
-            for label, th, sch in rows:
-                vals = []
-                for d in args.depths:
-                    k = res.key(na, cfg(th, sch, d))
-                    vals.append(res.step_ms(k) if field == "step" else res.find_ms(k))
-                ok = [v for v in vals if not math.isnan(v)]
-                best = min(ok) if ok else None
-                md.append(f"| {label} | " + " | ".join(
-                    (f"**{fmt(v)}**" if v == best else fmt(v)) for v in vals) + " |")
-            md.append("")
-        for label, th, sch in rows:
-            for d in args.depths:
-                csv_add("a", ja, "quadtree", cfg(th, sch, d), res.key(na, cfg(th, sch, d)))
+                  f"tables count objects handled within 20 ms: higher is better). Threshold {dflt} (the core's "
+                  "default), chunk 0 (OpenMP's default), blocks of 64 queries. Bold: the fastest of each row.\n")
+        head = ["schedule \\ depth"] + [f"auto (= {auto_depth})" if d == "auto" else d for d in args.depths]
+        for title, ms in (("Whole broadphase work, ms/step", res.step_ms), ("FindPairs only, ms/step", res.find_ms)):
+            rows = []
+            for th, sch in ROWS_A:
+                vals = [ms(key(ja, th, sch, d)) for d in args.depths]
+                rows.append(["sequential (1 thread)" if th == 1 else f"{sch} (2 threads)"]
+                            + bold(vals, min((v for v in vals if not math.isnan(v)), default=None), fmt))
+            md += [f"**{title}**\n"] + table(head, rows) + [""]
+        csv_add("a", ja, *[cfg(th, sch, d) for th, sch in ROWS_A for d in args.depths])
         twin = str(auto_depth) if str(auto_depth) in args.depths and "auto" in args.depths else None
-        gauge = None
-        gauge_find = None
+        gauge = gauge_find = None
         if twin:
             def spread(ms):  # % between "auto" and its twin depth, per row of the table
-                pairs = [(ms(res.key(na, cfg(th, sch, "auto"))), ms(res.key(na, cfg(th, sch, twin))))
-                         for _, th, sch in rows]
+                pairs = [(ms(key(ja, th, sch, "auto")), ms(key(ja, th, sch, twin))) for th, sch in ROWS_A]
                 return [100.0 * abs(x - y) / min(x, y) for x, y in pairs if not math.isnan(x) and not math.isnan(y)]
             fd, diffs = spread(res.find_ms), spread(res.step_ms)
             gauge_find = max(fd) if fd else None
@@ -416,115 +398,82 @@ def report_all(args, info, jobs, res, mismatches, timing):
                 gauge = max(diffs)
                 md.append(f"*Noise gauge:* \"auto\" and depth {twin} are the same configuration (same depth, same "
                           f"bounds) measured twice in every round; their medians differ by {fmt(min(diffs), 1)}–"
-                          f"{fmt(max(diffs), 1)}% across the four rows in the whole-work table, up to "
+                          f"{fmt(gauge, 1)}% across the four rows in the whole-work table, up to "
                           f"{fmt(gauge_find, 1)}% in the FindPairs table (machine noise, and heap layout: the two "
-                          "reach depth {twin} through different rebuilds). Smaller differences are not significant."
-                          "\n".replace("{twin}", twin))
-        md.append("**Speed-up of 2 threads (static) over 1, per depth** (whole work; FindPairs only): "
-                  + ", ".join(
-                      f"{d}: {fmt(res.step_ms(res.key(na, cfg(1, 'static', d))) / res.step_ms(res.key(na, cfg(2, 'static', d))))}× "
-                      f"({fmt(res.find_ms(res.key(na, cfg(1, 'static', d))) / res.find_ms(res.key(na, cfg(2, 'static', d))))}×)"
-                      for d in args.depths) + "\n")
+                          f"reach depth {twin} through different rebuilds). Smaller differences are not significant.\n")
+        md.append("**Speed-up of 2 threads (static) over 1, per depth** (whole work; FindPairs only): " + ", ".join(
+            f"{d}: {fmt(res.step_ms(key(ja, 1, 'static', d)) / res.step_ms(key(ja, 2, 'static', d)))}× "
+            f"({fmt(res.find_ms(key(ja, 1, 'static', d)) / res.find_ms(key(ja, 2, 'static', d)))}×)"
+            for d in args.depths) + "\n")
         md.append("**What each depth does** (untimed checking run over the same steps; \"per query\" = per "
                   "buffered proxy, i.e. per proxy whose fat box was replaced this step):\n")
-        md.append("| depth | leaf side (m) | leaf cells per proxy | deepest occupied level | cells visited per query "
-                  "(approx.) | candidates per query | overlaps per query | pairs per query | queries per step | "
-                  "memory (MB) |")
-        md.append("|---|---|---|---|---|---|---|---|---|---|")
-        shape = {}
+        rows, used = [], {}
         for d in args.depths:
-            ck = res.checks.get(res.key(na, cfg(1, "static", d)))
+            ck = res.checks.get(key(ja, 1, "static", d))
             if not ck:
                 continue
-            qn = max(1, ck["queries"])
-            du = ck["depth_used"]
-            levels = ck.get("proxies_per_level", [])
-            deepest = max((i for i, c in enumerate(levels) if c > 0), default=0)
-            shape[d] = dict(depth=du, cells=ck["cells"] / qn, cand=ck["candidates"] / qn, deepest=deepest,
-                            leafcells=4 ** du / max(1, ck["proxies"]), mem=ck["memory_bytes"] / 2 ** 20,
-                            leaf=ck["leaf_size"], queries=ck["queries"] / ja["steps"])
-            md.append(f"| {d if d != 'auto' else 'auto = ' + str(du)} | {fmt(ck['leaf_size'], 2)} | "
-                      f"{fmt(4 ** du / max(1, ck['proxies']), 3)} | {deepest} | {fmt(ck['cells'] / qn, 1)} | "
-                      f"{fmt(ck['candidates'] / qn, 1)} | {fmt(ck['overlaps'] / qn, 2)} | {fmt(ck['pairs'] / qn, 2)} | "
-                      f"{fmt(ck['queries'] / ja['steps'], 0)} | {fmt(ck['memory_bytes'] / 2 ** 20, 1)} |")
-        md.append("")
+            qn, du = max(1, ck["queries"]), ck["depth_used"]
+            used[d] = du
+            deepest = max((i for i, c in enumerate(ck.get("proxies_per_level", [])) if c > 0), default=0)
+            rows.append([d if d != "auto" else f"auto = {du}", fmt(ck["leaf_size"], 2),
+                         fmt(4 ** du / max(1, ck["proxies"]), 3), deepest, fmt(ck["cells"] / qn, 1),
+                         fmt(ck["candidates"] / qn, 1), fmt(ck["overlaps"] / qn, 2), fmt(ck["pairs"] / qn, 2),
+                         fmt(ck["queries"] / ja["steps"], 0), fmt(ck["memory_bytes"] / 2 ** 20, 1)])
+        md += tab("depth | leaf side (m) | leaf cells per proxy | deepest occupied level | cells visited per query "
+                  "(approx.) | candidates per query | overlaps per query | pairs per query | queries per step | "
+                  "memory (MB)", rows) + [""]
         md.append("The paper's Tables 1 and 2 (objects handled within 20 ms; **higher** is better; bold: the best of "
                   "each row). Its quadtree was rebuilt every frame and its threads appended to one shared, "
                   "lock-protected vector:\n")
         for cpu, t in paper.TABLES.items():
-            md += table([cpu] + [str(d) for d in paper.DEPTHS], [[row] + [f"**{v}**" if v == max(vals) else str(v)
-                                                                    for v in vals] for row, vals in t.items()])
+            md += table([cpu] + [str(d) for d in paper.DEPTHS], [[row] + bold(v, max(v)) for row, v in t.items()])
             md.append("")
-        md.append(analysis_a(res, na, args.depths, shape, omp, gauge, gauge_find))
+        md.append(analysis_a(res, ja["name"], args.depths, used.get("auto", "?"), omp64, gauge, gauge_find))
 
     # ---------------- (b) ----------------
-    amdahl_rows = []
-    static_rows = []
+    amdahl_rows, static_rows, rows = [], [], []
+    for j in sec.get("b", []):
+        k1, k2, ks = key(j, 1), key(j, 2), key(j, 2, "static")
+        t1, t2, f1, f2 = res.step_ms(k1), res.step_ms(k2), res.find_ms(k1), res.find_ms(k2)
+        m1, m2, r1, r2 = res.maint_ms(k1), res.maint_ms(k2), res.replace_ms(k1), res.replace_ms(k2)
+        sw, sf, share = t1 / t2, f1 / f2, m1 / t1
+        ew, ef = karp_flatt(sw), karp_flatt(sf)
+        amdahl_rows.append(dict(name=j["display"], t1=t1, t2=t2, sw=sw, ef=ef, share=share, loop=res.step_ms(
+            (j["name"], "null")), buffered=res.checks.get(k1, {}).get("max_buffered")))
+        rows.append([j["display"], fmt(res.first(k1, "mean_proxies"), 0), f"{fmt(t1)} = {fmt(f1)} + {fmt(m1)}",
+                     f"{fmt(t2)} = {fmt(f2)} + {fmt(m2)}", f"**{fmt(sf)}×** ({span(res.ratios(k1, k2, 'find_ns'))})",
+                     f"{fmt(r1)} → {fmt(r2)} ({fmt(r1 / r2) + '×' if r1 > 0 and r2 > 0 else '–'})",
+                     f"**{fmt(sw)}×** ({span(res.ratios(k1, k2))})", f"{fmt(100 * share, 0)}%", fmt(ew, 2),
+                     fmt(ef, 2)])
+        csv_add("b", j, cfg(1), cfg(2))
+        if sched != "static" and not math.isnan(res.step_ms(ks)):
+            csv_add("b", j, cfg(2, "static"))
+            rs = res.ratios(ks, k2)
+            static_rows.append(f"{j['display']}: static {fmt(res.step_ms(ks))} ms/step (FindPairs "
+                               f"{fmt(res.find_ms(ks))}) against {sched} {fmt(t2)} ({fmt(f2)}); "
+                               f"per round, static / {sched} = {fmt(med(rs))} ({span(rs)})")
     if sec.get("b"):
         md.append("## (b) Speed-up of 2 threads over 1 on the broadphase work\n")
-        notes = []
-        for j in sec["b"]:
-            note = f"{j['display']}: {j['warmup']} warm-up steps (untimed), then {j['steps']} timed steps"
-            if j["scene"] == "rain":
-                fl = rain_floor_steps(j["size"])
-                note += (f" — the bodies are still falling (the bottom row of the spawn grid reaches the floor "
-                         f"after about {fl} steps, so no pile yet and no time-of-impact events)"
-                         if j["warmup"] + j["steps"] < fl else
-                         f" — the pile is forming (the bottom row reaches the floor after about {fl} steps)")
-            notes.append(note)
-        md.append("Replays of recorded steps: " + "; ".join(notes) + ". " + DEFAULT["schedule"].capitalize() + " schedule (the core's default), automatic depth, threshold "
-                  f"{DEFAULT['threshold']} (the core's default). **Outside** = whole − FindPairs: the time in the "
-                  "MoveProxy/CreateProxy/DestroyProxy/TouchProxy calls (Box2D makes them one at a time; its adapter "
-                  "queues moves: a serial append, plus, every 8192 moves, the fat-box tests and in-cell rewrites of "
-                  "the queued moves, which run on all threads), plus the replay loop's own overhead (the null engine "
-                  "of (d)). **Grid maintenance**: the time the core books as Stats::updateSeconds, inside and "
-                  "outside FindPairs: applying the queued moves (fat-box tests and in-cell rewrites: the chunk "
-                  "applies during the moves, the last chunk inside FindPairs; on all threads) and re-placing the "
-                  "proxies that changed cell (inside FindPairs, on one thread). Speed-up = median(1 thread) / median(2 threads); in brackets the range of the per-round "
-                  "ratios (each round ran both).\n")
-        md.append("| trace | proxies | 1 thread: ms/step = FindPairs + outside | 2 threads: ms/step = "
-                  "FindPairs + outside | FindPairs speed-up | grid maintenance, ms/step: 1 → 2 threads | whole-work "
-                  "speed-up | outside share at 1 thread (m) | serial fraction, whole (Karp–Flatt) | serial fraction, "
-                  "FindPairs (Karp–Flatt, e_F) |")
-        md.append("|---|---|---|---|---|---|---|---|---|---|")
-        for j in sec["b"]:
-            n = j["name"]
-            k1, k2 = res.key(n, cfg(1)), res.key(n, cfg(2))
-            t1, t2 = res.step_ms(k1), res.step_ms(k2)
-            f1, f2 = res.find_ms(k1), res.find_ms(k2)
-            m1, m2 = res.maint_ms(k1), res.maint_ms(k2)
-            sw, sf = t1 / t2, f1 / f2
-            rr = res.ratios(k1, k2)
-            rf = res.ratios(k1, k2, "find_ns")
-            ew, ef = karp_flatt(sw), karp_flatt(sf)
-            share = m1 / t1
-            ck = res.checks.get(k1, {})
-            amdahl_rows.append(dict(name=j["display"], t1=t1, t2=t2, f1=f1, f2=f2, m1=m1, m2=m2, sw=sw, sf=sf,
-                                    ew=ew, ef=ef, share=share,
-                                    buffered=ck.get("max_buffered"),
-                                    proxies=res.first(k1, "mean_proxies")))
-            r1, r2 = res.replace_ms(k1), res.replace_ms(k2)
-            amdahl_rows[-1].update(r1=r1, r2=r2, loop=res.step_ms((n, "null")))
-            md.append(f"| {j['display']} | {fmt(res.first(k1, 'mean_proxies'), 0)} | {fmt(t1)} = {fmt(f1)} "
-                      f"+ {fmt(m1)} | {fmt(t2)} = {fmt(f2)} + {fmt(m2)} | **{fmt(sf)}×** "
-                      f"({fmt(min(rf) if rf else None)}–{fmt(max(rf) if rf else None)}) | "
-                      f"{fmt(r1)} → {fmt(r2)} ({fmt(r1 / r2) + '×' if r1 > 0 and r2 > 0 else '–'}) | **{fmt(sw)}×** "
-                      f"({fmt(min(rr) if rr else None)}–{fmt(max(rr) if rr else None)}) | {fmt(100 * share, 0)}% | "
-                      f"{fmt(ew, 2)} | {fmt(ef, 2)} |")
-            csv_add("b", j, "quadtree", cfg(1), k1)
-            csv_add("b", j, "quadtree", cfg(2), k2)
-            ks = res.key(n, cfg(2, "static"))
-            if DEFAULT["schedule"] != "static" and not math.isnan(res.step_ms(ks)):
-                csv_add("b", j, "quadtree", cfg(2, "static"), ks)
-                rs = res.ratios(ks, k2)
-                static_rows.append(f"{j['display']}: static {fmt(res.step_ms(ks))} ms/step (FindPairs "
-                                   f"{fmt(res.find_ms(ks))}) against {DEFAULT['schedule']} {fmt(t2)} ({fmt(f2)}); "
-                                   f"per round, static / {DEFAULT['schedule']} = {fmt(statistics.median(rs) if rs else None)} "
-                                   f"({fmt(min(rs) if rs else None)}–{fmt(max(rs) if rs else None)})")
-        md.append("")
+        notes = [f"{j['display']}: {j['warmup']} warm-up steps (untimed), then {j['steps']} timed steps"
+                 + (rain_note(j) if j["scene"] == "rain" else "") for j in sec["b"]]
+        md.append("Replays of recorded steps: " + "; ".join(notes) + f". {sched.capitalize()} schedule (the core's "
+                  f"default), automatic depth, threshold {dflt} (the core's default). **Outside** = whole − "
+                  "FindPairs: the time in the MoveProxy/CreateProxy/DestroyProxy/TouchProxy calls (Box2D makes them "
+                  "one at a time; its adapter queues moves: a serial append, plus, every 8192 moves, the fat-box "
+                  "tests and in-cell rewrites of the queued moves, which run on all threads), plus the replay loop's "
+                  "own overhead (the null engine of (d)). **Grid maintenance**: the time the core books as "
+                  "Stats::updateSeconds, inside and outside FindPairs: applying the queued moves (fat-box tests and "
+                  "in-cell rewrites: the chunk applies during the moves, the last chunk inside FindPairs; on all "
+                  "threads) and re-placing the proxies that changed cell (inside FindPairs, on one thread). Speed-up "
+                  "= median(1 thread) / median(2 threads); in brackets the range of the per-round ratios (each round "
+                  "ran both).\n")
+        md += tab("trace | proxies | 1 thread: ms/step = FindPairs + outside | 2 threads: ms/step = FindPairs + "
+                  "outside | FindPairs speed-up | grid maintenance, ms/step: 1 → 2 threads | whole-work speed-up | "
+                  "outside share at 1 thread (m) | serial fraction, whole (Karp–Flatt) | serial fraction, FindPairs "
+                  "(Karp–Flatt, e_F)", rows) + [""]
         if static_rows:
             md.append(f"The same traces at 2 threads under the static schedule (the default before it became "
-                      f"{DEFAULT['schedule']}; same rounds): " + "; ".join(static_rows) + ". Static hands each thread "
+                      f"{sched}; same rounds): " + "; ".join(static_rows) + ". Static hands each thread "
                       "one contiguous half of the move buffer; when the halves' queries cost unequally (on rain, "
                       "timed per thread with static: one thread's share took 20–25% longer), the other thread "
                       "waits at the loop's end, while guided's shrinking chunks even the halves out.\n")
@@ -535,88 +484,57 @@ def report_all(args, info, jobs, res, mismatches, timing):
     if smalls or sweeps:
         md.append("## (c) Small scenes and the parallel threshold\n")
     if smalls:
+        inner = smalls[0].get("inner", 1)
         md.append(f"Scenes of {args.small_size} bodies ({args.small_steps} timed steps after {args.small_warmup} "
-                  f"warm-up steps; {smalls[0].get('inner', 1)} runs per round, so the medians are over "
-                  f"{smalls[0].get('inner', 1) * args.repeats} runs), at the core's default threshold (" + str(DEFAULT["threshold"]) + "): 2 threads must not be "
-                  "slower than 1.\n")
-        md.append("| trace | 1 thread µs/step | 2 threads µs/step | 2 threads / 1 thread | largest UpdatePairs call "
-                  "(buffered proxies) | parallel regions opened | for comparison: 2 threads, threshold 0 |")
-        md.append("|---|---|---|---|---|---|---|")
+                  f"warm-up steps; {inner} runs per round, so the medians are over {inner * args.repeats} runs), at "
+                  f"the core's default threshold ({dflt}): 2 threads must not be slower than 1.\n")
+        rows = []
         for j in smalls:
-            n = j["name"]
-            k1, k2, k0 = res.key(n, cfg(1)), res.key(n, cfg(2)), res.key(n, cfg(2, threshold=0))
-            ck = res.checks.get(k1, {})
-            rr = res.ratios(k2, k1)
-            md.append(f"| {j['display']} | {fmt(res.step_ms(k1) * 1e3, 1)} | {fmt(res.step_ms(k2) * 1e3, 1)} | "
-                      f"**{fmt(res.step_ms(k2) / res.step_ms(k1), 3)}** (rounds {fmt(min(rr) if rr else None, 3)}–"
-                      f"{fmt(max(rr) if rr else None, 3)}) | {ck.get('max_buffered', '–')} | "
-                      f"{int(res.first(k2, 'parallel_calls', 0))} | "
-                      f"{fmt(res.step_ms(k0) * 1e3, 1)} µs/step ({fmt(res.step_ms(k0) / res.step_ms(k1), 2)}×) |")
-            csv_add("c-small", j, "quadtree", cfg(1), k1)
-            csv_add("c-small", j, "quadtree", cfg(2), k2)
-            csv_add("c-small", j, "quadtree", cfg(2, threshold=0), k0)
-        md.append("")
+            k1, k2, k0 = key(j, 1), key(j, 2), key(j, 2, threshold=0)
+            s1, s2, s0 = res.step_ms(k1), res.step_ms(k2), res.step_ms(k0)
+            rows.append([j["display"], fmt(s1 * 1e3, 1), fmt(s2 * 1e3, 1),
+                         f"**{fmt(s2 / s1, 3)}** (rounds {span(res.ratios(k2, k1), 3)})",
+                         res.checks.get(k1, {}).get("max_buffered", "–"), int(res.first(k2, "parallel_calls", 0)),
+                         f"{fmt(s0 * 1e3, 1)} µs/step ({fmt(s0 / s1, 2)}×)"])
+            csv_add("c-small", j, cfg(1), cfg(2), cfg(2, threshold=0))
+        md += tab("trace | 1 thread µs/step | 2 threads µs/step | 2 threads / 1 thread | largest UpdatePairs call "
+                  "(buffered proxies) | parallel regions opened | for comparison: 2 threads, threshold 0", rows) + [""]
     if sweeps:
-        md.append(f"Threshold sweep at 2 threads ({DEFAULT['schedule']} schedule, automatic depth). Each cell: ms/step (FindPairs "
+        md.append(f"Threshold sweep at 2 threads ({sched} schedule, automatic depth). Each cell: ms/step (FindPairs "
                   "only), speed-up over 1 thread, parallel regions opened per step. Median over the rounds.\n")
-        md.append("| threshold | " + " | ".join(
-            f"{j['display']} ({j['warmup']} + {j['steps']} steps)" for j in sweeps) + " |")
-        md.append("|---" * (len(sweeps) + 1) + "|")
-        md.append("| 1 thread (reference) | " + " | ".join(
-            f"{fmt(res.step_ms(res.key(j['name'], cfg(1))), 3)} ({fmt(res.find_ms(res.key(j['name'], cfg(1))), 3)})"
-            for j in sweeps) + " |")
+        rows = [["1 thread (reference)"] + [f"{fmt(res.step_ms(key(j, 1)), 3)} ({fmt(res.find_ms(key(j, 1)), 3)})"
+                                            for j in sweeps]]
         for t in args.thresholds:
-            cells = []
+            rows.append([f"{t}{' (default)' if t == dflt else ''}"])
             for j in sweeps:
-                k = res.key(j["name"], cfg(2, threshold=t))
-                ref = res.step_ms(res.key(j["name"], cfg(1)))
-                pc = res.first(k, "parallel_calls", float("nan")) / max(1, res.first(k, "steps", 1))
-                cells.append(f"{fmt(res.step_ms(k), 3)} ({fmt(res.find_ms(k), 3)}); ×{fmt(ref / res.step_ms(k), 2)}; "
-                             f"{fmt(pc, 1)}")
-            md.append(f"| {t}{' (default)' if t == DEFAULT['threshold'] else ''} | " + " | ".join(cells) + " |")
-        md.append("")
+                k = key(j, 2, threshold=t)
+                pc = res.first(k, "parallel_calls", NAN) / max(1, res.first(k, "steps", 1))
+                rows[-1].append(f"{fmt(res.step_ms(k), 3)} ({fmt(res.find_ms(k), 3)}); "
+                                f"×{fmt(res.step_ms(key(j, 1)) / res.step_ms(k), 2)}; {fmt(pc, 1)}")
+        md += table(["threshold"] + [steps_label(j) for j in sweeps], rows) + [""]
         for j in sweeps:
-            csv_add("c-sweep", j, "quadtree", cfg(1), res.key(j["name"], cfg(1)))
-            for t in args.thresholds:
-                csv_add("c-sweep", j, "quadtree", cfg(2, threshold=t), res.key(j["name"], cfg(2, threshold=t)))
+            csv_add("c-sweep", j, cfg(1), *[cfg(2, threshold=t) for t in args.thresholds])
         md.append("UpdatePairs calls per timed step, by buffered proxies per call:\n")
-        ck0 = res.checks.get(res.key(sweeps[0]["name"], cfg(1)), {})
-        edges = ck0.get("bucket_edges", [0, 1, 64, 128, 256, 512, 1024, 4096])
-        labels = []
-        for i, e in enumerate(edges):
-            if i + 1 < len(edges):
-                labels.append(str(e) if edges[i + 1] - 1 == e else f"{e}–{edges[i + 1] - 1}")
-            else:
-                labels.append(f"≥ {e}")
-        md.append("| trace | " + " | ".join(labels) + " | largest |")
-        md.append("|---" * (len(labels) + 2) + "|")
-        for j in sweeps:
-            ck = res.checks.get(res.key(j["name"], cfg(1)), {})
-            md.append(f"| {j['display']} | " + " | ".join(fmt(c / j["steps"], 2) for c in ck.get("bucket_calls", []))
-                      + f" | {ck.get('max_buffered', '–')} |")
-        md.append("")
-    per_call = []
-    for j in smalls + sweeps:
-        t = per_call_table(res, j)
-        if t:
-            per_call.append((j, t))
+        edges = res.checks.get(key(sweeps[0], 1), {}).get("bucket_edges", [0, 1, 64, 128, 256, 512, 1024, 4096])
+        cks = [res.checks.get(key(j, 1), {}) for j in sweeps]
+        # The counts are joined into one cell, as an empty list must leave one empty cell.
+        md += table(["trace"] + [bucket_label(edges, i) for i in range(len(edges))] + ["largest"], [
+            [j["display"], " | ".join(fmt(c / j["steps"], 2) for c in ck.get("bucket_calls", [])),
+             ck.get("max_buffered", "–")] for j, ck in zip(sweeps, cks)]) + [""]
+    per_call = [(j, t) for j, t in ((j, per_call_rows(res, j)) for j in smalls + sweeps) if t is not None]
     if per_call:
         md.append("**Where a parallel region starts paying, call by call.** Every UpdatePairs call of the timed "
                   "steps, timed alone and grouped by its number of buffered proxies (known from the checking run): "
                   "median µs per call at 1 thread (serial) and at 2 threads with threshold 0 (every call parallel), "
                   "pooled over the rounds. Forced-parallel calls come in quick succession here, so the worker thread "
-                  "is usually still spinning; an isolated parallel call (the main call of a step, milliseconds of serial "
-                  "MoveProxy work after the previous region) also pays to wake the worker.\n")
-        md.append("| trace | buffered proxies per call | calls per step | serial µs/call | parallel µs/call | "
-                  "serial / parallel |")
-        md.append("|---|---|---|---|---|---|")
-        for j, t in per_call:
-            for row in t["rows"]:
-                md.append(f"| {j['display']} | {row['label']} | {fmt(row['per_step'], 2)} | {fmt(row['serial'], 1)} | "
-                          f"{fmt(row['parallel'], 1)} | {fmt(row['ratio'], 2)} |")
+                  "is usually still spinning; an isolated parallel call (the main call of a step, milliseconds of "
+                  "serial MoveProxy work after the previous region) also pays to wake the worker.\n")
+        md += tab("trace | buffered proxies per call | calls per step | serial µs/call | parallel µs/call | "
+                  "serial / parallel", [[j["display"], r["label"], fmt(r["per_step"], 2), fmt(r["serial"], 1),
+                                         fmt(r["parallel"], 1), fmt(r["ratio"], 2)] for j, t in per_call for r in t])
         md.append("")
     if smalls or sweeps:
-        md.append(analysis_c(res, sweeps, smalls, args.thresholds, omp, per_call))
+        md.append(analysis_c(res, sweeps, smalls, args.thresholds, per_call))
 
     # ---------------- (d) ----------------
     if "d" in args.sections:
@@ -624,26 +542,20 @@ def report_all(args, info, jobs, res, mismatches, timing):
         md.append("Same replay, same timing definition. ns per proxy per step = time per step / live proxies. "
                   "Ratio = stock time / quadtree time (higher: the quadtree is faster). Replay overhead = the null "
                   "engine (op dispatch and id map only); it is included in every figure.\n")
-        md.append("| trace | proxies | stock ns/proxy/step | quadtree, 1 thread | quadtree, 2 threads | stock / "
-                  "quadtree (1 thread) | stock / quadtree (2 threads) | replay overhead ns/proxy/step |")
-        md.append("|---|---|---|---|---|---|---|---|")
+        rows = []
         for j in jobs:
-            n = j["name"]
-            ks = (n, "stock")
-            k1, k2 = res.key(n, cfg(1)), res.key(n, cfg(2))
-            s, q1, q2 = res.ns_per_proxy(ks), res.ns_per_proxy(k1), res.ns_per_proxy(k2)
-            null = res.ns_per_proxy((n, "null"))
-            md.append(f"| {j['display']} ({j['warmup']} + {j['steps']} steps) | {fmt(res.first(ks, 'mean_proxies'), 0)} "
-                      f"| {fmt(s, 1)} | {fmt(q1, 1)} | {fmt(q2, 1)} | **{fmt(s / q1, 1)}×** | **{fmt(s / q2, 1)}×** | "
-                      f"{fmt(null, 1)} |")
-            csv_add("d", j, "stock", None, ks)
-            csv_add("d", j, "null", None, (n, "null"))
-        md.append("")
+            ks = (j["name"], "stock")
+            s, q1, q2 = res.ns_per_proxy(ks), res.ns_per_proxy(key(j, 1)), res.ns_per_proxy(key(j, 2))
+            rows.append([steps_label(j), fmt(res.first(ks, "mean_proxies"), 0), fmt(s, 1), fmt(q1, 1), fmt(q2, 1),
+                         f"**{fmt(s / q1, 1)}×**", f"**{fmt(s / q2, 1)}×**",
+                         fmt(res.ns_per_proxy((j["name"], "null")), 1)])
+            csv_add("d", j, "stock", "null")
+        md += tab("trace | proxies | stock ns/proxy/step | quadtree, 1 thread | quadtree, 2 threads | stock / "
+                  "quadtree (1 thread) | stock / quadtree (2 threads) | replay overhead ns/proxy/step", rows) + [""]
 
     # ---------------- (e) ----------------
     if "e" in args.sections and amdahl_rows:
-        png = os.path.join(args.results, "parallel.png")
-        drew = figure(png, res, args, amdahl_rows, ja)
+        drew = figure(os.path.join(args.results, "parallel.png"), res, args, amdahl_rows, ja)
         md.append("## (e) Scaling to 16 cores: a projection\n")
         if drew:
             md.append("![left: table (a) measured; right: projected speed-up](parallel.png)\n")
@@ -658,11 +570,7 @@ def report_all(args, info, jobs, res, mismatches, timing):
 # ----------------------------------------------------------------------------------------------------------------
 # Written analysis: every number in it comes from this run
 # ----------------------------------------------------------------------------------------------------------------
-def pct(a, b):
-    return 100.0 * (a / b - 1.0)
-
-
-def analysis_a(res, na, depths, shape, omp, gauge, gauge_find):
+def analysis_a(res, na, depths, auto_used, omp64, gauge, gauge_find):
     """The numbers behind table (a); how to read them: bench/README.md, section (a)."""
     grid = {(th, sch, d): res.step_ms(res.key(na, cfg(th, sch, d))) for th, sch in ROWS_A for d in depths}
     fgrid = {k: res.find_ms(res.key(na, cfg(*k))) for k in grid}
@@ -675,19 +583,16 @@ def analysis_a(res, na, depths, shape, omp, gauge, gauge_find):
     seq = {d: grid[(1, "static", d)] for d in depths if (1, "static", d) in valid}
     out = [f"- Fastest, whole work: {name(best)}, {fmt(valid[best])} ms/step; FindPairs only: {name(fbest)}, "
            f"{fmt(fvalid[fbest])} ms/step; fastest sequential: depth {min(seq, key=seq.get)}, {fmt(min(seq.values()))}"
-           f" ms/step; the automatic depth picks {shape.get('auto', {}).get('depth', '?')}; noise gauge "
+           f" ms/step; the automatic depth picks {auto_used}; noise gauge "
            f"{fmt(gauge, 1)}% (whole), {fmt(gauge_find, 1)}% (FindPairs)."]
     cols = [{x: fgrid[(2, x, d)] for x in SCHEDULES} for d in depths]
     cols = [c for c in cols if not any(math.isnan(v) for v in c.values())]
     if cols:
         out.append("- 2-thread schedules, FindPairs, median % above each depth's fastest: " + ", ".join(
-            f"{x} {fmt(med([pct(c[x], min(c.values())) for c in cols]), 1)}%" for x in SCHEDULES)
-            + (f" (an empty 64-iteration parallel loop: " + ", ".join(f"{x} {fmt(omp.get((x, 64)), 1)} µs"
-                                                                    for x in SCHEDULES) + ")" if omp else ""))
-    sp = [grid[(1, "static", d)] / grid[(2, "static", d)] for d in depths
-          if (1, "static", d) in valid and (2, "static", d) in valid]
-    fs = [fgrid[(1, "static", d)] / fgrid[(2, "static", d)] for d in depths
-          if (1, "static", d) in fvalid and (2, "static", d) in fvalid]
+            f"{x} {fmt(med([100.0 * (c[x] / min(c.values()) - 1.0) for c in cols]), 1)}%" for x in SCHEDULES)
+            + (f" (an empty 64-iteration parallel loop: {omp64})" if omp64 else ""))
+    sp, fs = ([g[(1, "static", d)] / g[(2, "static", d)] for d in depths
+               if (1, "static", d) in v and (2, "static", d) in v] for g, v in ((grid, valid), (fgrid, fvalid)))
     if sp and fs:
         out.append(f"- Static at 2 threads over sequential: whole work {fmt(min(sp))}–{fmt(max(sp))}×, FindPairs "
                    f"{fmt(min(fs), 2)}–{fmt(max(fs), 2)}×, faster at {sum(x > 1 for x in sp)} of {len(sp)} depths.")
@@ -700,68 +605,48 @@ def analysis_b(rows):
         f"- {r['name']}: had the outside share stayed serial, 2 threads could not beat {fmt(amdahl(r['share'], 2))}×"
         + (f"; less the replay loop ({fmt(r['loop'], 2)} ms/step): {fmt(r['t1'] - r['loop'])} → "
            f"{fmt(r['t2'] - r['loop'])} ms ({fmt((r['t1'] - r['loop']) / (r['t2'] - r['loop']))}×)"
-           if not math.isnan(r.get("loop", float("nan"))) and r["t2"] > r["loop"] else "") + "." for r in rows) + "\n"
+           if not math.isnan(r.get("loop", NAN)) and r["t2"] > r["loop"] else "") + "." for r in rows) + "\n"
 
 
 CALL_BUCKETS = [0, 1, 16, 64, 128, 256, 512, 1024, 2048, 4096]
 
 
-def call_bucket(n):
-    b = 0
-    while b + 1 < len(CALL_BUCKETS) and n >= CALL_BUCKETS[b + 1]:
-        b += 1
-    return b
+def bucket_label(edges, i):
+    """Size class i of the sorted lower edges: "lo–hi", "lo" when it holds one size, "≥ lo" for the last."""
+    if i + 1 >= len(edges):
+        return f"≥ {edges[i]}"
+    return str(edges[i]) if edges[i + 1] - 1 == edges[i] else f"{edges[i]}–{edges[i + 1] - 1}"
 
 
-def bucket_label(b):
-    lo = CALL_BUCKETS[b]
-    if b + 1 >= len(CALL_BUCKETS):
-        return f"≥ {lo}"
-    hi = CALL_BUCKETS[b + 1] - 1
-    return str(lo) if hi == lo else f"{lo}–{hi}"
-
-
-def per_call_table(res, j):
+def per_call_rows(res, j):
     """Per-call FindPairs times by size class: serial (1 thread) vs forced parallel (2 threads, threshold 0)."""
     ck = res.checks.get(res.key(j["name"], cfg(1)))
     sizes = ck.get("calls_buffered") if ck else None
     if not sizes:
         return None
+    bucket = [sum(n >= e for e in CALL_BUCKETS[1:]) for n in sizes]  # each call's size class
 
-    def pooled(c):
-        buckets = [[] for _ in CALL_BUCKETS]
-        for run in res.runs.get(res.key(j["name"], c), []):
-            ns = run.get("calls_ns")
-            if not ns or len(ns) != len(sizes):
-                continue
-            for n, t in zip(sizes, ns):
-                buckets[call_bucket(n)].append(t)
-        return buckets
+    def pooled(c, b):  # the times of the calls of size class b under configuration c, over the rounds
+        return [t for r in res.runs.get(res.key(j["name"], c), []) if len(r.get("calls_ns") or []) == len(sizes)
+                for cb, t in zip(bucket, r["calls_ns"]) if cb == b]
 
-    serial, parallel = pooled(cfg(1)), pooled(cfg(2, threshold=0))
-    counts = [0] * len(CALL_BUCKETS)
-    for n in sizes:
-        counts[call_bucket(n)] += 1
     rows = []
     for b in range(len(CALL_BUCKETS)):
-        if counts[b] == 0 or not serial[b] or not parallel[b]:
-            continue
-        sm, pm = med(serial[b]) * 1e-3, med(parallel[b]) * 1e-3
-        rows.append(dict(bucket=b, label=bucket_label(b), per_step=counts[b] / j["steps"], serial=sm, parallel=pm,
-                         ratio=sm / pm if pm > 0 else float("nan")))
-    return dict(rows=rows)
+        serial, parallel = pooled(cfg(1), b), pooled(cfg(2, threshold=0), b)
+        if bucket.count(b) and serial and parallel:
+            sm, pm = med(serial) * 1e-3, med(parallel) * 1e-3
+            rows.append(dict(bucket=b, label=bucket_label(CALL_BUCKETS, b), per_step=bucket.count(b) / j["steps"],
+                             serial=sm, parallel=pm, ratio=sm / pm if pm > 0 else NAN))
+    return rows
 
 
-def analysis_c(res, sweeps, smalls, thresholds, omp, per_call):
+def analysis_c(res, sweeps, smalls, thresholds, per_call):
     """The numbers behind (c) and the recommended threshold (how it is chosen: bench/README.md, section (c))."""
-    out, lose_hi, win_lo = [], None, None
-    for _, t in per_call:  # a size class wins or loses beyond ±5%
-        for row in (r for r in t["rows"] if CALL_BUCKETS[r["bucket"]] > 0):
-            hi = CALL_BUCKETS[row["bucket"] + 1] if row["bucket"] + 1 < len(CALL_BUCKETS) else None
-            if row["ratio"] < 1.05 and hi is not None:
-                lose_hi = max(lose_hi or 0, hi)
-            if row["ratio"] > 1.05:
-                win_lo = min(win_lo if win_lo is not None else 1 << 30, CALL_BUCKETS[row["bucket"]])
+    out, rows = [], [r for _, t in per_call for r in t if CALL_BUCKETS[r["bucket"]] > 0]
+    # A size class wins or loses beyond ±5%: the end of the largest that loses, the start of the smallest that wins.
+    lose_hi = max((CALL_BUCKETS[r["bucket"] + 1] for r in rows
+                   if r["ratio"] < 1.05 and r["bucket"] + 1 < len(CALL_BUCKETS)), default=None)
+    win_lo = min((CALL_BUCKETS[r["bucket"]] for r in rows if r["ratio"] > 1.05), default=None)
     if per_call:
         out.append(f"- Call by call: largest size class where a parallel call does not win ends at "
                    f"{lose_hi - 1 if lose_hi else '–'} buffered proxies; smallest where it wins starts at "
@@ -802,62 +687,49 @@ def serial_fractions(r):
 
 def analysis_e(rows):
     """The projection's table (what it assumes: bench/README.md, section (e))."""
-    out = ["| trace | m | e_F | s | projected 4 / 8 / 16 threads | s if the outside work were parallel | "
-           "projected 4 / 8 / 16 threads | blocks of 64 in the largest call |", "|---|---|---|---|---|---|---|---|"]
+    out = []
     for r in rows:
         s, s2 = serial_fractions(r)
-        out.append(f"| {r['name']} | {fmt(r['share'], 2)} | {fmt(r['ef'], 2)} | {fmt(s, 2)} | "
-                   f"{' / '.join(fmt(amdahl(s, p), 1) for p in (4, 8, 16))} | {fmt(s2, 2)} | "
-                   f"{' / '.join(fmt(amdahl(s2, p), 1) for p in (4, 8, 16))} | {fmt((r['buffered'] or 0) / 64.0, 0)} |")
-    return "\n".join(out) + "\n"
+        out.append([r["name"], fmt(r["share"], 2), fmt(r["ef"], 2), fmt(s, 2),
+                    " / ".join(fmt(amdahl(s, p), 1) for p in (4, 8, 16)), fmt(s2, 2),
+                    " / ".join(fmt(amdahl(s2, p), 1) for p in (4, 8, 16)), fmt((r["buffered"] or 0) / 64.0, 0)])
+    return "\n".join(tab("trace | m | e_F | s | projected 4 / 8 / 16 threads | s if the outside work were parallel | "
+                         "projected 4 / 8 / 16 threads | blocks of 64 in the largest call", out)) + "\n"
 
 
 def figure(path, res, args, rows, ja):
-    try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        log("matplotlib is missing (bench/install-deps.sh installs python3-matplotlib); no figure")
+    plt = plot.pyplot("parallel.py")
+    if plt is None:
         return False
-    fig, axes = plt.subplots(1, 2, figsize=(10, 3.8), dpi=80)
-    ax = axes[0]
+    fig, (ax, ax2) = plt.subplots(1, 2, figsize=(10, 3.8), dpi=80)
     if ja:
         xs = [d for d in args.depths if d != "auto"]
-        for label, th, sch, style in (("1 thread", 1, "static", "k-o"), ("2 threads, static", 2, "static", "C0-s"),
-                                      ("2 threads, dynamic", 2, "dynamic", "C1-^"),
-                                      ("2 threads, guided", 2, "guided", "C2-v")):
-            ys = [res.step_ms(res.key(ja["name"], cfg(th, sch, d))) for d in xs]
-            ax.plot([int(x) for x in xs], ys, style, label=label, markersize=4, linewidth=1)
-        ax.set_xlabel("quadtree depth")
-        ax.set_ylabel("broadphase ms per step (median)")
+        for (th, sch), style in zip(ROWS_A, ("k-o", "C0-s", "C1-^", "C2-v")):
+            ax.plot([int(x) for x in xs], [res.step_ms(res.key(ja["name"], cfg(th, sch, d))) for d in xs], style,
+                    label="1 thread" if th == 1 else f"2 threads, {sch}", markersize=4, linewidth=1)
+        # The scale before the formatters: setting it resets them.
+        ax.set(xlabel="quadtree depth", ylabel="broadphase ms per step (median)", yscale="log")
         ax.set_title(f"(a) particles {ja['size']}: measured", fontsize=10)
-        ax.set_yscale("log")
         from matplotlib.ticker import FormatStrFormatter
         ax.yaxis.set_major_formatter(FormatStrFormatter("%g"))
         ax.yaxis.set_minor_formatter(FormatStrFormatter("%g"))
         ax.tick_params(axis="y", which="minor", labelsize=7)
         ax.legend(fontsize=8)
         ax.grid(True, alpha=0.3)
-    ax = axes[1]
     ps = list(range(1, 17))
     for i, r in enumerate(rows):
         s, s2 = serial_fractions(r)
-        ax.plot(ps, [amdahl(s, p) for p in ps], f"C{i}-", linewidth=1.2, label=f"{r['name']}, as measured: s = {s:.2f}")
-        ax.plot(ps, [amdahl(s2, p) for p in ps], f"C{i}--", linewidth=1.0,
-                label=f"{r['name']}, outside work parallel too: s = {s2:.2f}")
-        ax.plot([1, 2], [1.0, r["sw"]], f"C{i}o", markersize=5)
-    ax.plot(ps, ps, ":", color="grey", linewidth=0.8, label="ideal")
-    ax.set_xlabel("threads")
-    ax.set_ylabel("speed-up of the broadphase work")
-    ax.set_title("(e) PROJECTION: Amdahl with s measured on 2 cores (dots: measured)", fontsize=9)
-    ax.set_xlim(1, 16)
-    ax.set_ylim(0, 16)
-    ax.legend(fontsize=7, loc="upper left")
-    ax.grid(True, alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
+        ax2.plot(ps, [amdahl(s, p) for p in ps], f"C{i}-", linewidth=1.2,
+                 label=f"{r['name']}, as measured: s = {s:.2f}")
+        ax2.plot(ps, [amdahl(s2, p) for p in ps], f"C{i}--", linewidth=1.0,
+                 label=f"{r['name']}, outside work parallel too: s = {s2:.2f}")
+        ax2.plot([1, 2], [1.0, r["sw"]], f"C{i}o", markersize=5)
+    ax2.plot(ps, ps, ":", color="grey", linewidth=0.8, label="ideal")
+    ax2.set(xlabel="threads", ylabel="speed-up of the broadphase work", xlim=(1, 16), ylim=(0, 16))
+    ax2.set_title("(e) PROJECTION: Amdahl with s measured on 2 cores (dots: measured)", fontsize=9)
+    ax2.legend(fontsize=7, loc="upper left")
+    ax2.grid(True, alpha=0.3)
+    plot.save(plt, fig, path)
     return True
 
 

@@ -6,7 +6,7 @@
 # bench/results/*.csv, bench.json, the PNG plots and bench/RESULTS.md. See bench/README.md.
 #
 #   bench/run.sh                 # quick profile, -O2: under 10 minutes on a 2-core machine (plus the first build)
-#   bench/run.sh --full          # full profile, -O2 and -O3 (--opt both unless --opt says otherwise)
+#   bench/run.sh --full          # full profile, -O2 and -O3 (--opt both unless --opt says otherwise): about 90 minutes
 #   bench/run.sh --opt both      # -O2 (Debian's level) and -O3 (Box2D's CMake Release): a stock and a quadphase
 #                                # build each, same source, same flags; in-engine and replay headline at both
 #   bench/run.sh --help          # every option of bench.py (parts, rounds, scale, output paths)

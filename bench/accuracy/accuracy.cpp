@@ -62,8 +62,7 @@ struct Options
 
 [[noreturn]] void Fail(const std::string& message)
 {
-    std::fprintf(stderr, "qp-accuracy-%s: %s\n", kBuild, message.c_str());
-    std::exit(2);
+    qpbench::Die(2, "qp-accuracy-%s: %s\n", kBuild, message.c_str());
 }
 
 void PrintHelp()
@@ -146,6 +145,17 @@ struct Relative
 {
     bool automatic;
     int value;
+
+    /// The value asked for, given the automatic one. Relative values are clamped into [lo, hi] (the JSON line
+    /// reports the value used); `arg` (flag and text) names an absolute one outside it in the error.
+    int Resolve(const std::string& arg, int automaticValue, int lo, int hi) const
+    {
+        const int v = automatic ? std::clamp(automaticValue + value, lo, hi) : value;
+        if (v < lo || v > hi)
+            Fail(arg + " gives " + std::to_string(v) + ", outside [" + std::to_string(lo) + ", " +
+                 std::to_string(hi) + "]");
+        return v;
+    }
 };
 
 [[maybe_unused]] Relative ParseRelative(const std::string& flag, const std::string& text)
@@ -173,8 +183,7 @@ struct Geometry
     Geometry g{};
     g.bounds.lowerBound.Set(0.0f, 0.0f);
     g.bounds.upperBound.Set(0.0f, 0.0f);
-    bool first = true;
-    std::vector<float> extents;
+    std::vector<float> extents; // one per box, so empty until the first
     for (const b2Body* body = world.GetBodyList(); body != nullptr; body = body->GetNext())
     {
         for (const b2Fixture* f = body->GetFixtureList(); f != nullptr; f = f->GetNext())
@@ -183,11 +192,10 @@ struct Geometry
             {
                 b2AABB box;
                 f->GetShape()->ComputeAABB(&box, body->GetTransform(), c);
-                if (first)
+                if (extents.empty())
                     g.bounds = box;
                 else
                     g.bounds.Combine(box);
-                first = false;
                 extents.push_back(
                     std::max(box.upperBound.x - box.lowerBound.x, box.upperBound.y - box.lowerBound.y));
             }
@@ -200,6 +208,19 @@ struct Geometry
         g.medianExtent = extents[extents.size() / 2];
     }
     return g;
+}
+
+// qs::BuildScene, exiting with its message (a size outside the scene's range).
+qs::Scene MakeScene(qs::SceneId id, int size, uint32_t seed)
+{
+    try
+    {
+        return qs::BuildScene(id, size, seed);
+    }
+    catch (const std::exception& e)
+    {
+        Fail(e.what());
+    }
 }
 
 // The dynamic body that starts highest (the pyramid's top box); nullptr when there is none.
@@ -237,21 +258,14 @@ int main(int argc, char** argv)
         // the same). The probe runs with ONE leaf (levels = 1): every pair is tested, so it is exact (and
         // O(proxies^2)).
         constexpr int kProbeSteps = 250;
+        using Paper = quadphase::bench::PaperQuadtreeBroadPhase;
         {
             quadphase::bench::PaperSettings exact;
             exact.levels = 1;
             exact.threads = 1;
             quadphase::bench::SetPaperSettings(exact);
         }
-        qs::Scene probe;
-        try
-        {
-            probe = qs::BuildScene(*id, size, o.seed);
-        }
-        catch (const std::exception& e)
-        {
-            Fail(e.what());
-        }
+        qs::Scene probe = MakeScene(*id, size, o.seed);
         Geometry g = MeasureGeometry(*probe.world);
         for (int i = 0; i < kProbeSteps; ++i)
             qs::StepScene(probe);
@@ -270,17 +284,9 @@ int main(int argc, char** argv)
                                     settings.bounds.maxY - settings.bounds.minY);
         const float fat = g.medianExtent + 2.0f * b2_aabbExtension;
         autoLevels = 1 + static_cast<int>(std::lround(std::log2(std::max(1.0f, side / (2.0f * fat)))));
-        autoLevels = std::clamp(autoLevels, quadphase::bench::PaperQuadtreeBroadPhase::kMinLevels,
-                                quadphase::bench::PaperQuadtreeBroadPhase::kMaxLevels);
-        const Relative rel = ParseRelative("--levels", o.levels);
-        // Relative values are clamped into range (the JSON line reports the level count used).
-        levelsUsed = rel.automatic ? std::clamp(autoLevels + rel.value,
-                                                quadphase::bench::PaperQuadtreeBroadPhase::kMinLevels,
-                                                quadphase::bench::PaperQuadtreeBroadPhase::kMaxLevels)
-                                   : rel.value;
-        if (levelsUsed < quadphase::bench::PaperQuadtreeBroadPhase::kMinLevels ||
-            levelsUsed > quadphase::bench::PaperQuadtreeBroadPhase::kMaxLevels)
-            Fail("--levels " + o.levels + " gives " + std::to_string(levelsUsed) + ", outside [1, 9]");
+        autoLevels = std::clamp(autoLevels, Paper::kMinLevels, Paper::kMaxLevels);
+        levelsUsed = ParseRelative("--levels", o.levels)
+                         .Resolve("--levels " + o.levels, autoLevels, Paper::kMinLevels, Paper::kMaxLevels);
         settings.levels = levelsUsed;
         settings.threads = o.threads;
         quadphase::bench::SetPaperSettings(settings);
@@ -291,15 +297,7 @@ int main(int argc, char** argv)
     }
 #endif
 
-    qs::Scene scene;
-    try
-    {
-        scene = qs::BuildScene(*id, size, o.seed);
-    }
-    catch (const std::exception& e)
-    {
-        Fail(e.what());
-    }
+    qs::Scene scene = MakeScene(*id, size, o.seed);
     b2World& world = *scene.world;
 
 #if defined(QUADPHASE_VARIANT_QUADPHASE)
@@ -310,17 +308,12 @@ int main(int argc, char** argv)
         quadphase::Configure(world, config);
         autoDepth = quadphase::GetStats(world).depth;
         const Relative rel = ParseRelative("--depth", o.depth);
-        if (!rel.automatic || rel.value != 0)
+        if (!rel.automatic || rel.value != 0) // plain "auto" leaves the depth automatic (depth: null)
         {
-            // Relative values are clamped into range (the JSON line reports the depth used).
-            config.depth =
-                rel.automatic ? std::clamp(autoDepth + rel.value, 0, quadphase::kMaxDepth) : rel.value;
-            if (config.depth < 0 || config.depth > quadphase::kMaxDepth)
-                Fail("--depth " + o.depth + " gives " + std::to_string(config.depth) + ", outside [0, " +
-                     std::to_string(quadphase::kMaxDepth) + "]");
+            depthUsed = rel.Resolve("--depth " + o.depth, autoDepth, 0, quadphase::kMaxDepth);
+            config.depth = depthUsed;
             quadphase::Configure(world, config);
         }
-        depthUsed = rel.automatic && rel.value == 0 ? -1 : config.depth;
     }
 #else
     if (o.threads != 1 && std::strcmp(kBuild, "stock") == 0)

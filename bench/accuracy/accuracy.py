@@ -25,20 +25,10 @@ from qpbench import machine, plot, report, run  # noqa: E402
 from qpbench.report import sig as fmt, table  # noqa: E402
 
 # (scene, size, simulated seconds). Modest sizes: the whole sweep (2 rounds) took about 25 minutes on 2 busy cores.
-SCENES = [
-    ("pyramid", 20, 10.0),
-    ("tiles", 1000, 10.0),
-    ("particles", 1000, 10.0),
-    ("rain", 1000, 5.0),
-    ("tumbler", 200, 5.0),
-    ("bullets", 100, 5.0),
-    ("sparse", 1000, 5.0),
-    ("shooter", 200, 5.0),
-    ("openworld", 500, 5.0),
-    ("mixed", 200, 5.0),
-    ("terrain", 300, 5.0),
-    ("churn", 500, 5.0),
-]
+SCENES = [("pyramid", 20, 10.0), ("tiles", 1000, 10.0), ("particles", 1000, 10.0), ("rain", 1000, 5.0),
+          ("tumbler", 200, 5.0), ("bullets", 100, 5.0), ("sparse", 1000, 5.0), ("shooter", 200, 5.0),
+          ("openworld", 500, 5.0), ("mixed", 200, 5.0), ("terrain", 300, 5.0), ("churn", 500, 5.0)]
+SCENE_NAMES = [s[0] for s in SCENES]
 # Scenes that settle rather than diverge: the only ones compared with a reference run.
 NON_CHAOTIC = ("pyramid", "tiles")
 # Scenes with the pyramid whose top box drift is reported.
@@ -70,33 +60,33 @@ BROADPHASES = [
 # Configurations that are also run at every step setting (the others only at the default).
 SWEEP_STEPS = ("stock", "qp-auto-t1", "paper-auto-t1")
 
-FAMILY_COLOURS = {
-    "stock": "#000000",
-    "quadphase": "#1f4fd0",
-    "quadphase-t2": "#17becf",
-    "quadphase-t2p": "#8c564b",
-    "quadphase-fixed": "#2ca02c",
-    "paper": "#d62728",
-    "paper-t2": "#ff7f0e",
-    "paper-t2p": "#e377c2",
-    "paper-coarse": "#9467bd",
-}
-STEP_MARKERS = {
-    (60, 8, 3): "o",
-    (30, 8, 3): "v",
-    (120, 8, 3): "^",
-    (240, 8, 3): "s",
-    (60, 4, 2): "<",
-    (60, 16, 6): ">",
-}
+FAMILY_COLOURS = {"stock": "#000000", "quadphase": "#1f4fd0", "quadphase-t2": "#17becf", "quadphase-t2p": "#8c564b",
+                  "quadphase-fixed": "#2ca02c", "paper": "#d62728", "paper-t2": "#ff7f0e", "paper-t2p": "#e377c2",
+                  "paper-coarse": "#9467bd"}
+STEP_MARKERS = dict(zip(STEP_SETTINGS, "ov^s<>"))
+
+# Error measures of every scene (plotted), then those of some scenes: the scenes, the plotted measure and its title,
+# the report's column and its cell.
+MEASURES = [("missed_per_check", "missed contacts per check"), ("pen_max_mm", "max penetration (mm)"),
+            ("pen_mean_mm", "mean penetration (mm)")]
+SCENE_MEASURES = [
+    (ENERGY, "abs_energy_drift", "|energy drift| after the run", "energy drift", lambda r: fmt(r["energy_drift"], 3)),
+    (TOP_BOX, "abs_top_dx", "top box horizontal drift (m)", "top box dx (m)", lambda r: fmt(r["top_dx"], 3)),
+    (NON_CHAOTIC, "deviation_mean", "deviation from reference (m, RMS)", "deviation mean / final (m)",
+     lambda r: "%s / %s" % (fmt(r.get("deviation_mean"), 3), fmt(r.get("deviation_final"), 3))),
+]
 
 
 def step_label(step):
     return "%d Hz, %d/%d it" % step
 
 
-def run_key(scene, bp, step):
-    return "%s|%s|%d|%d|%d" % ((scene, bp) + tuple(step))
+def step_of(row):
+    return row["hz"], row["vel_iters"], row["pos_iters"]
+
+
+def pick(record, keys):
+    return {k: record[k] for k in keys.split()}
 
 
 def run_one(runner, scene, size, seconds, bp_build, bp_args, step, positions_out=None, passive=False):
@@ -108,86 +98,63 @@ def run_one(runner, scene, size, seconds, bp_build, bp_args, step, positions_out
 
 
 def read_positions(path):
-    samples = {}
     with open(path) as f:
-        for line in f:
-            parts = line.split()
-            if not parts:
-                continue
-            t = round(float(parts[0]), 6)
-            samples[t] = [float(v) for v in parts[1:]]
-    return samples
+        return {round(float(p[0]), 6): [float(v) for v in p[1:]] for p in map(str.split, f) if p}
 
 
 def deviation(path, ref_path):
     """Mean over the common sample times of the RMS (over dynamic bodies) position difference, and the final one."""
-    a = read_positions(path)
-    b = read_positions(ref_path)
-    times = sorted(set(a) & set(b))
+    a, b = read_positions(path), read_positions(ref_path)
     rms = []
-    for t in times:
-        pa, pb = a[t], b[t]
+    for t in sorted(set(a) & set(b)):
+        pa, pb, n = a[t], b[t], len(a[t]) // 2
         if len(pa) != len(pb) or not pa:
             return float("nan"), float("nan")
-        n = len(pa) // 2
-        s = sum((pa[2 * i] - pb[2 * i]) ** 2 + (pa[2 * i + 1] - pb[2 * i + 1]) ** 2 for i in range(n))
-        rms.append(math.sqrt(s / n))
-    if not rms:
-        return float("nan"), float("nan")
-    return sum(rms) / len(rms), rms[-1]
+        rms.append(math.sqrt(sum((pa[2 * i] - pb[2 * i]) ** 2 + (pa[2 * i + 1] - pb[2 * i + 1]) ** 2
+                                 for i in range(n)) / n))
+    return (sum(rms) / len(rms), rms[-1]) if rms else (float("nan"), float("nan"))
 
 
 def plan(scenes):
-    runs = []
-    for scene, size, seconds in scenes:
-        for key, build, args, family, label in BROADPHASES:
-            steps = STEP_SETTINGS if key in SWEEP_STEPS else [DEFAULT_STEP]
-            for step in steps:
-                runs.append(dict(scene=scene, size=size, seconds=seconds, bp=key, build=build, args=args,
-                                 family=family, label=label, step=step))
-    return runs
+    """Every run of a round: the first fields of its row (in the CSV's order) and the broadphase's arguments."""
+    return [(dict(scene=scene, size=size, seconds=seconds, config=key, label=label, family=family, build=build,
+                  hz=step[0], vel_iters=step[1], pos_iters=step[2]), args)
+            for scene, size, seconds in scenes for key, build, args, family, label in BROADPHASES
+            for step in (STEP_SETTINGS if key in SWEEP_STEPS else [DEFAULT_STEP])]
 
 
 def sweep(args, runner, workdir, scenes):
     runs = plan(scenes)
     posdir = os.path.join(workdir, "positions")
     os.makedirs(posdir, exist_ok=True)
-    results = {}
-    loads = []
-    rng = random.Random(args.seed)
-    started = time.time()
+    results, loads, rng, started = {}, [], random.Random(args.seed), time.time()
 
     # Reference runs first (untimed for the report: only their positions are used).
-    references = {}
+    references, ref_rows = {}, {}  # positions file, report line
     for scene, size, seconds in scenes:
-        if scene not in NON_CHAOTIC:
-            continue
-        ref_path = os.path.join(posdir, "%s.reference.txt" % scene)
-        rec = run_one(runner, scene, size, seconds, "stock", [], REFERENCE_STEP, ref_path)
-        references[scene] = (ref_path, rec)
-        print("  reference %-9s %s: %.3f s run time per simulated s" % (scene, step_label(REFERENCE_STEP),
-                                                                        rec["run_s_per_sim_s"]), flush=True)
+        if scene in NON_CHAOTIC:
+            references[scene] = os.path.join(posdir, "%s.reference.txt" % scene)
+            rec = run_one(runner, scene, size, seconds, "stock", [], REFERENCE_STEP, references[scene])
+            ref_rows[scene] = dict(top_dx=rec["top_dx"], top_dy=rec["top_dy"], pen_max_mm=1000 * rec["pen_max"],
+                                   pen_mean_mm=1000 * rec["pen_mean"], run_ms_per_sim_s=1000 * rec["run_s_per_sim_s"],
+                                   missed=rec["missed"])
+            print("  reference %-9s %s: %.3f s run time per simulated s" % (scene, step_label(REFERENCE_STEP),
+                                                                            rec["run_s_per_sim_s"]), flush=True)
 
     with open(runner.jsonl, "w") as out:
         for rnd in range(args.rounds):
             order = list(runs)
             rng.shuffle(order)
-            load_before = os.getloadavg()[0]
-            t0 = time.time()
-            for i, r in enumerate(order):
-                key = run_key(r["scene"], r["bp"], r["step"])
-                pos = None
-                if rnd == 0 and r["scene"] in references:
-                    pos = os.path.join(posdir, key.replace("|", "_") + ".txt")
-                rec = run_one(runner, r["scene"], r["size"], r["seconds"], r["build"], r["args"], r["step"], pos,
-                              r["bp"].endswith("-passive"))
-                rec["round"] = rnd
-                rec["config"] = r["bp"]
+            load_before, t0 = os.getloadavg()[0], time.time()
+            for i, (r, bp_args) in enumerate(order):
+                key = "%s|%s|%d|%d|%d" % ((r["scene"], r["config"]) + step_of(r))
+                # Positions of the first round only, for the deviation from the reference.
+                pos = rnd == 0 and r["scene"] in references and os.path.join(posdir, key.replace("|", "_") + ".txt")
+                rec = run_one(runner, r["scene"], r["size"], r["seconds"], r["build"], bp_args, step_of(r), pos,
+                              r["config"].endswith("-passive"))
+                rec["round"], rec["config"] = rnd, r["config"]
                 out.write(json.dumps(rec) + "\n")
-                entry = results.setdefault(key, dict(run=r, records=[], positions=None))
-                entry["records"].append(rec)
-                if pos:
-                    entry["positions"] = pos
+                results.setdefault(key, dict(run=r, records=[], positions=pos))["records"].append(rec)
                 if (i + 1) % 25 == 0:
                     print("  round %d: %d/%d runs, %.0f s" % (rnd + 1, i + 1, len(order), time.time() - t0),
                           flush=True)
@@ -196,40 +163,23 @@ def sweep(args, runner, workdir, scenes):
                                                                            os.getloadavg()[0]), flush=True)
     rows = []
     for key, entry in results.items():
-        r = entry["run"]
-        recs = entry["records"]
+        r, recs = entry["run"], entry["records"]
         first = recs[0]
-        row = dict(scene=r["scene"], size=r["size"], seconds=r["seconds"], config=r["bp"], label=r["label"],
-                   family=r["family"], build=r["build"], hz=r["step"][0], vel_iters=r["step"][1],
-                   pos_iters=r["step"][2], threads=first["threads"], depth=first["depth"],
-                   auto_depth=first["auto_depth"], levels=first["levels"], auto_levels=first["auto_levels"],
-                   rounds=len(recs),
+        row = dict(r, **pick(first, "threads depth auto_depth levels auto_levels"), rounds=len(recs),
                    run_ms_per_sim_s=1000.0 * min(x["run_s_per_sim_s"] for x in recs),
                    run_ms_per_sim_s_max=1000.0 * max(x["run_s_per_sim_s"] for x in recs),
-                   checks=first["checks"], overlapping=first["overlapping"], missed=first["missed"],
-                   missed_new=first["missed_new"], missed_static=first.get("missed_static"),
-                   missed_max=first["missed_max"],
-                   missed_per_check=first["missed"] / max(1, first["checks"]),
+                   **pick(first, "checks overlapping missed missed_new"), missed_static=first.get("missed_static"),
+                   missed_max=first["missed_max"], missed_per_check=first["missed"] / max(1, first["checks"]),
                    checks_with_miss=first["checks_with_miss"],
                    missed_all_rounds=";".join(str(x["missed"]) for x in recs),
                    rounds_agree=len(set((x["missed"], x["pen_max"], x["top_dx"]) for x in recs)) == 1,
                    pen_max_mm=1000.0 * first["pen_max"], pen_mean_mm=1000.0 * first["pen_mean"],
-                   energy_drift=first["energy_drift"], energy_max_dev=first["energy_max_dev"],
-                   top_dx=first["top_dx"], top_dy=first["top_dy"], bodies=first["bodies"],
-                   fixtures=first["fixtures"], cxx_flags=first["cxx_flags"])
+                   **pick(first, "energy_drift energy_max_dev top_dx top_dy bodies fixtures cxx_flags"))
         if r["scene"] in references and entry["positions"]:
-            mean_dev, final_dev = deviation(entry["positions"], references[r["scene"]][0])
-            row["deviation_mean"] = mean_dev
-            row["deviation_final"] = final_dev
+            row["deviation_mean"], row["deviation_final"] = deviation(entry["positions"], references[r["scene"]])
         rows.append(row)
-    order_bp = [b[0] for b in BROADPHASES]
-    rows.sort(key=lambda x: ([s[0] for s in scenes].index(x["scene"]), order_bp.index(x["config"]),
-                             STEP_SETTINGS.index((x["hz"], x["vel_iters"], x["pos_iters"]))))
-    ref_rows = {}
-    for scene, (path, rec) in references.items():
-        ref_rows[scene] = dict(top_dx=rec["top_dx"], top_dy=rec["top_dy"], pen_max_mm=1000 * rec["pen_max"],
-                               pen_mean_mm=1000 * rec["pen_mean"],
-                               run_ms_per_sim_s=1000 * rec["run_s_per_sim_s"], missed=rec["missed"])
+    rows.sort(key=lambda x: (SCENE_NAMES.index(x["scene"]), [b[0] for b in BROADPHASES].index(x["config"]),
+                             STEP_SETTINGS.index(step_of(x))))
     meta = dict(loads=loads, elapsed=time.time() - started, rounds=args.rounds, references=ref_rows,
                 finished=datetime.datetime.utcnow().strftime("%Y-%m-%d %H:%M"))
     return rows, meta
@@ -239,29 +189,11 @@ def sweep(args, runner, workdir, scenes):
 # Plots
 
 
-def measures_for(scene):
-    m = [("missed_per_check", "missed contacts per check"), ("pen_max_mm", "max penetration (mm)"),
-         ("pen_mean_mm", "mean penetration (mm)")]
-    if scene in ENERGY:
-        m.append(("abs_energy_drift", "|energy drift| after the run"))
-    if scene in TOP_BOX:
-        m.append(("abs_top_dx", "top box horizontal drift (m)"))
-    if scene in NON_CHAOTIC:
-        m.append(("deviation_mean", "deviation from reference (m, RMS)"))
-    return m
-
-
 def value(row, measure):
-    if measure == "abs_energy_drift":
-        v = row.get("energy_drift")
+    v = row.get(measure[4:] if measure.startswith("abs_") else measure)
+    if measure.startswith("abs_"):  # the size of a signed measure ("abs_top_dx": |top_dx|)
         return abs(v) if v is not None else None
-    if measure == "abs_top_dx":
-        v = row.get("top_dx")
-        return abs(v) if v is not None else None
-    v = row.get(measure)
-    if v is None or (isinstance(v, float) and math.isnan(v)):
-        return None
-    return v
+    return None if v is None or (isinstance(v, float) and math.isnan(v)) else v
 
 
 def pareto(points):
@@ -276,60 +208,39 @@ def pareto(points):
 def plot_scene(plt, scene, rows, path):
     from matplotlib.lines import Line2D
 
-    measures = measures_for(scene)
-    ncols = 3
-    nrows = (len(measures) + 1 + ncols - 1) // ncols  # one extra panel for the legend
-    fig, axes = plt.subplots(nrows, ncols, figsize=(13, 4.0 * nrows), dpi=72)
+    measures = MEASURES + [(m, title) for scenes, m, title, _, _ in SCENE_MEASURES if scene in scenes]
+    nrows = (len(measures) + 3) // 3  # three columns, and one extra panel for the legend
+    fig, axes = plt.subplots(nrows, 3, figsize=(13, 4.0 * nrows), dpi=72)
     axes = [a for line in (axes if nrows > 1 else [axes]) for a in line]
     srows = [r for r in rows if r["scene"] == scene]
     for ax, (measure, title) in zip(axes, measures):
-        vals = [(r["run_ms_per_sim_s"], value(r, measure), r) for r in srows]
-        vals = [v for v in vals if v[1] is not None]
+        vals = [v for v in ((r["run_ms_per_sim_s"], value(r, measure), r) for r in srows) if v[1] is not None]
         positive = [v[1] for v in vals if v[1] > 0]
         floor = (min(positive) / 30.0) if positive else 1e-6
-        pts = []
         for x, y, r in vals:
-            yy = y if y > 0 else floor
-            pts.append((x, yy))
-            ax.scatter([x], [yy], color=FAMILY_COLOURS[r["family"]],
-                       marker=STEP_MARKERS[(r["hz"], r["vel_iters"], r["pos_iters"])], s=42,
-                       edgecolors="white" if y > 0 else "black", linewidths=0.6, zorder=3)
-        front = pareto(pts)
-        if len(front) > 1:
-            xs, ys = [], []
-            for i, (x, y) in enumerate(front):
-                if i > 0:
-                    xs.append(x)
-                    ys.append(front[i - 1][1])
-                xs.append(x)
-                ys.append(y)
-            ax.plot(xs, ys, color="#888888", linestyle="--", linewidth=1, zorder=2)
+            ax.scatter([x], [y if y > 0 else floor], color=FAMILY_COLOURS[r["family"]], marker=STEP_MARKERS[step_of(r)],
+                       s=42, edgecolors="white" if y > 0 else "black", linewidths=0.6, zorder=3)
+        front = pareto([(x, y if y > 0 else floor) for x, y, _ in vals])
+        if len(front) > 1:  # the front as a staircase
+            ax.step(*zip(*front), where="post", color="#888888", linestyle="--", linewidth=1, zorder=2)
         if any(v[1] <= 0 for v in vals):
             ax.axhline(floor, color="#bbbbbb", linestyle=":", linewidth=1, zorder=1)
             ax.text(0.99, floor, " = 0 (plotted here)", transform=ax.get_yaxis_transform(), ha="right",
                     va="bottom", fontsize=7, color="#777777")
-        ax.set_xscale("log")
-        ax.set_yscale("log")
-        ax.set_xlabel("run time per simulated second (ms)")
+        ax.set(xscale="log", yscale="log", xlabel="run time per simulated second (ms)")
         ax.set_title(title, fontsize=10)
         ax.grid(True, which="major", linewidth=0.4, alpha=0.5)
-    legend_ax = axes[len(measures)]
-    legend_ax.axis("off")
     handles = []
-    seen = set()
-    for key, build, args, family, label in BROADPHASES:
-        if family in seen:
-            continue
-        seen.add(family)
+    for family in dict.fromkeys(b[3] for b in BROADPHASES):
         names = [b[4] for b in BROADPHASES if b[3] == family]
         handles.append(Line2D([], [], color=FAMILY_COLOURS[family], marker="o", linestyle="",
                               label=" / ".join(names) if len(names) < 3 else names[0].rsplit(" ", 1)[0] + " (several)"))
-    for step, marker in STEP_MARKERS.items():
-        handles.append(Line2D([], [], color="#555555", marker=marker, linestyle="", label=step_label(step)))
+    handles += [Line2D([], [], color="#555555", marker=marker, linestyle="", label=step_label(step))
+                for step, marker in STEP_MARKERS.items()]
     handles.append(Line2D([], [], color="#888888", linestyle="--", label="Pareto front"))
-    legend_ax.legend(handles=handles, loc="center", fontsize=8, frameon=False)
-    for ax in axes[len(measures) + 1:]:
+    for ax in axes[len(measures):]:  # the first of them holds the legend
         ax.axis("off")
+    axes[len(measures)].legend(handles=handles, loc="center", fontsize=8, frameon=False)
     size = srows[0]["size"] if srows else 0
     fig.suptitle("%s (size %d): error against run time, log-log (lower left is better)" % (scene, size), fontsize=12)
     plot.save(plt, fig, path)
@@ -350,170 +261,118 @@ def config_text(r):
 
 
 def write_report(rows, meta, info, scenes, md_path, png_rel, reading_path, command):
-    L = []
-    L.append("# Error against run time")
-    L.append("")
-    L.append("Generated by `%s`; sweep finished %s UTC (%.0f min). Raw results: "
-             "`BUILD_DIR/accuracy/accuracy.{csv,jsonl}`." % (command, meta.get("finished", "?"), meta["elapsed"] / 60.0))
+    L = ["# Error against run time", "",
+         "Generated by `%s`; sweep finished %s UTC (%.0f min). Raw results: "
+         "`BUILD_DIR/accuracy/accuracy.{csv,jsonl}`." % (command, meta.get("finished", "?"), meta["elapsed"] / 60.0)]
     if meta.get("merged"):
-        L.append("")
-        L.append("Results of %d sweeps with `--merge` (finished %s UTC), each over its own scenes with the same "
-                 "configurations; the machine's load differed between them." % (len(meta["merged"]),
-                                                                               ", ".join(meta["merged"])))
-    L.append("")
-    L.append("- Machine: %s, %d logical cores (shared with other work while this ran; load average before/after "
-             "each round: %s)." % (info["cpu"], info["cores"] or 0,
-                                   ", ".join("%.1f/%.1f" % (a, b) for a, b, _ in meta["loads"])))
-    flags = rows[0]["cxx_flags"] if rows else "?"
-    L.append("- Compiler: %s; flags %s (quadphase's core adds -fopenmp); kernel %s; commit %s." %
-             (info["compiler"], flags, info["kernel"], info["commit"]))
-    L.append("- %d configurations per round, %d rounds in a shuffled order; run time = the smallest of the rounds; "
-             "errors from the first round." % (len(rows), meta["rounds"]))
-    L.append("")
-    L.append("## What was run")
-    L.append("")
-    L.append("Three builds of Box2D 2.4.1 from the same source and flags, each stepping the project's example scenes "
-             "(`examples/scenes`) through `bench/accuracy/accuracy.cpp`:")
-    L.append("")
-    L.append("- **stock tree**: untouched Box2D (`b2DynamicTree`).")
-    L.append("- **quadphase**: the static quadtree adapter, automatic depth (which re-tunes itself) at 1 and 2 "
-             "threads, and fixed depths auto−2, auto−1, auto+1 (auto = the depth it picks for the built scene; relative "
-             "depths and levels are clamped to the valid range, so two of them can coincide, as in tumbler).")
-    L.append("- **paper**: the paper's design (`bench/baselines/paper_quadtree.h`) as the broadphase, through "
-             "`bench/accuracy/paper_box2d` (an adapter like plugin/box2d's). It reports, every `UpdatePairs`, every "
-             "pair it finds among all proxies, as the paper does; Box2D drops repeats. Its bounds are fixed: the "
-             "box of all shapes of the built scene and of the same scene after 250 steps (measured on an exact, "
-             "one-leaf probe run), grown by 5% per side. \"auto\" levels: a leaf side about twice the median fat "
-             "box, as quadphase's rule; auto−2 and auto−4 are coarser (bigger leaves, fewer misses, more tests).")
-    L.append("")
-    L.append("Step settings: the default (60 Hz, 8 velocity / 3 position iterations) for every configuration; "
-             "30, 120, 240 Hz and 4/2, 16/6 iterations for the stock tree, quadphase auto (1 thread) and paper "
-             "auto (1 thread). The scenes' per-step hooks (spawning, relaunching) keep the scenes' own 60 Hz clock "
-             "whatever the rate.")
-    L.append("")
-    L.append("| scene | size | simulated | bodies / fixtures at the end |")
-    L.append("|---|---|---|---|")
-    for scene, size, seconds in scenes:
-        r = next((x for x in rows if x["scene"] == scene and x["config"] == "stock"), None)
-        L.append("| %s | %d | %.0f s | %s |" % (scene, size, seconds,
-                                              "%d / %d" % (r["bodies"], r["fixtures"]) if r else "?"))
-    L.append("")
-    L.append("## What each number means")
-    L.append("")
-    L.append("- **Run time per simulated second**: wall time spent in `b2World::Step` only, divided by the simulated "
-             "time (the checks below run between steps and are not timed).")
-    L.append("- **Missed contacts**: after every step, every pair of fixture children whose shapes overlap "
-             "(`b2TestOverlap` on the shapes at the current transforms; candidates from the checker's own grid, "
-             "never the broadphase under test) and that Box2D should collide (different bodies, one of them "
-             "dynamic, no joint with collideConnected = false between them, the world's contact filter agrees: "
-             "b2ContactManager's rules) but has no `b2Contact`. *missed* sums these over the checks (a pair missed "
-             "for 20 steps counts 20); *new* counts a pair once each time it becomes missed; *per check* = missed / "
-             "checks; *with a static body* counts the missed pairs (as *missed*) in which one body is static (grounds, "
-             "walls, tiles). Box2D creates a contact for every pair of overlapping fat AABBs, so an exact broadphase gives 0 "
-             "by construction; `tests/accuracy` checks that the checker does find missing contacts.")
-    L.append("- **Penetration**: every touching contact's manifold re-evaluated at the end-of-step transforms "
-             "(`b2Contact::Evaluate`); depth = max(0, −separation) per manifold point; max and mean over all points "
-             "of all checks, in mm. Box2D keeps resting contacts about `b2_linearSlop` (5 mm) deep on purpose. "
-             "Missed contacts have no manifold and so do not show here: bodies that pass through each other do "
-             "not count as penetrating.")
-    L.append("- **Energy drift** (particles, no gravity, restitution 1): kinetic energy at the end / at the start "
-             "− 1. Box2D's restitution is inelastic below `b2_velocityThreshold` (1 m/s), so the exact run loses "
-             "energy too.")
-    L.append("- **Top box drift** (pyramid, tiles): horizontal displacement of the top box of the 20-row pyramid "
-             "after the run (10 s); the stack is symmetric, so an ideal solver keeps it at 0.")
-    L.append("- **Deviation from reference** (pyramid, tiles only: a settling stack is not chaotic, small "
-             "differences do not grow; rain, tumbler, particles, bullets and sparse are chaotic, and any change in "
-             "contact order makes them diverge, so a deviation there measures chaos, not error): the stock tree at "
-             "4× the default rate and iterations (%s); every 0.5 s of simulated time, the RMS over the dynamic "
-             "bodies of the distance between their positions and the reference's; the mean over the 20 samples." %
-             step_label(REFERENCE_STEP))
-    L.append("")
-
-    # Missed-contact summary.
-    L.append("## Missed contacts per configuration")
-    L.append("")
-    L.append("Missed contacts (summed over the checks, after every step) at the default step settings; in brackets, "
-             "the range over the other step settings for the three swept configurations.")
-    L.append("")
-    L.append("| configuration | " + " | ".join(s[0] for s in scenes) + " |")
-    L.append("|---|" + "---|" * len(scenes))
+        L += ["", "Results of %d sweeps with `--merge` (finished %s UTC), each over its own scenes with the same "
+              "configurations; the machine's load differed between them." % (len(meta["merged"]),
+                                                                            ", ".join(meta["merged"]))]
+    L += ["",
+          "- Machine: %s, %d logical cores (shared with other work while this ran; load average before/after "
+          "each round: %s)." % (info["cpu"], info["cores"] or 0,
+                                ", ".join("%.1f/%.1f" % (a, b) for a, b, _ in meta["loads"])),
+          "- Compiler: %s; flags %s (quadphase's core adds -fopenmp); kernel %s; commit %s." %
+          (info["compiler"], rows[0]["cxx_flags"] if rows else "?", info["kernel"], info["commit"]),
+          "- %d configurations per round, %d rounds in a shuffled order; run time = the smallest of the rounds; "
+          "errors from the first round." % (len(rows), meta["rounds"]),
+          "", "## What was run", "",
+          "Three builds of Box2D 2.4.1 from the same source and flags, each stepping the project's example scenes "
+          "(`examples/scenes`) through `bench/accuracy/accuracy.cpp`:", "",
+          "- **stock tree**: untouched Box2D (`b2DynamicTree`).",
+          "- **quadphase**: the static quadtree adapter, automatic depth (which re-tunes itself) at 1 and 2 threads, "
+          "and fixed depths auto−2, auto−1, auto+1 (auto = the depth it picks for the built scene; relative depths "
+          "and levels are clamped to the valid range, so two of them can coincide, as in tumbler).",
+          "- **paper**: the paper's design (`bench/baselines/paper_quadtree.h`) as the broadphase, through "
+          "`bench/accuracy/paper_box2d` (an adapter like plugin/box2d's). It reports, every `UpdatePairs`, every pair "
+          "it finds among all proxies, as the paper does; Box2D drops repeats. Its bounds are fixed: the box of all "
+          "shapes of the built scene and of the same scene after 250 steps (measured on an exact, one-leaf probe "
+          "run), grown by 5% per side. \"auto\" levels: a leaf side about twice the median fat box, as quadphase's "
+          "rule; auto−2 and auto−4 are coarser (bigger leaves, fewer misses, more tests).", "",
+          "Step settings: the default (60 Hz, 8 velocity / 3 position iterations) for every configuration; 30, 120, "
+          "240 Hz and 4/2, 16/6 iterations for the stock tree, quadphase auto (1 thread) and paper auto (1 thread). "
+          "The scenes' per-step hooks (spawning, relaunching) keep the scenes' own 60 Hz clock whatever the rate.", ""]
+    L += table(["scene", "size", "simulated", "bodies / fixtures at the end"],
+               [[scene, "%d" % size, "%.0f s" % seconds, next(("%d / %d" % (r["bodies"], r["fixtures"]) for r in rows
+                                                               if r["scene"] == scene and r["config"] == "stock"), "?")]
+                for scene, size, seconds in scenes])
+    L += ["", "## What each number means", "",
+          "- **Run time per simulated second**: wall time spent in `b2World::Step` only, divided by the simulated "
+          "time (the checks below run between steps and are not timed).",
+          "- **Missed contacts**: after every step, every pair of fixture children whose shapes overlap "
+          "(`b2TestOverlap` on the shapes at the current transforms; candidates from the checker's own grid, never "
+          "the broadphase under test) and that Box2D should collide (different bodies, one of them dynamic, no joint "
+          "with collideConnected = false between them, the world's contact filter agrees: b2ContactManager's rules) "
+          "but has no `b2Contact`. *missed* sums these over the checks (a pair missed for 20 steps counts 20); *new* "
+          "counts a pair once each time it becomes missed; *per check* = missed / checks; *with a static body* counts "
+          "the missed pairs (as *missed*) in which one body is static (grounds, walls, tiles). Box2D creates a "
+          "contact for every pair of overlapping fat AABBs, so an exact broadphase gives 0 by construction; "
+          "`tests/accuracy` checks that the checker does find missing contacts.",
+          "- **Penetration**: every touching contact's manifold re-evaluated at the end-of-step transforms "
+          "(`b2Contact::Evaluate`); depth = max(0, −separation) per manifold point; max and mean over all points of "
+          "all checks, in mm. Box2D keeps resting contacts about `b2_linearSlop` (5 mm) deep on purpose. Missed "
+          "contacts have no manifold and so do not show here: bodies that pass through each other do not count as "
+          "penetrating.",
+          "- **Energy drift** (particles, no gravity, restitution 1): kinetic energy at the end / at the start − 1. "
+          "Box2D's restitution is inelastic below `b2_velocityThreshold` (1 m/s), so the exact run loses energy too.",
+          "- **Top box drift** (pyramid, tiles): horizontal displacement of the top box of the 20-row pyramid after "
+          "the run (10 s); the stack is symmetric, so an ideal solver keeps it at 0.",
+          "- **Deviation from reference** (pyramid, tiles only: a settling stack is not chaotic, small differences do "
+          "not grow; rain, tumbler, particles, bullets and sparse are chaotic, and any change in contact order makes "
+          "them diverge, so a deviation there measures chaos, not error): the stock tree at 4× the default rate and "
+          "iterations (%s); every 0.5 s of simulated time, the RMS over the dynamic bodies of the distance between "
+          "their positions and the reference's; the mean over the 20 samples." % step_label(REFERENCE_STEP),
+          "", "## Missed contacts per configuration", "",
+          "Missed contacts (summed over the checks, after every step) at the default step settings; in brackets, the "
+          "range over the other step settings for the three swept configurations.", "",
+          "| configuration | " + " | ".join(s[0] for s in scenes) + " |", "|---|" + "---|" * len(scenes)]
     for key, build, args, family, label in BROADPHASES:
         cells = []
         for scene, size, seconds in scenes:
             rs = [r for r in rows if r["scene"] == scene and r["config"] == key]
-            d = [r for r in rs if (r["hz"], r["vel_iters"], r["pos_iters"]) == DEFAULT_STEP]
-            cell = str(d[0]["missed"]) if d else "–"
-            others = [r["missed"] for r in rs if (r["hz"], r["vel_iters"], r["pos_iters"]) != DEFAULT_STEP]
-            if others:
-                cell += " (%d–%d)" % (min(others), max(others))
-            cells.append(cell)
+            d = [r["missed"] for r in rs if step_of(r) == DEFAULT_STEP]
+            others = [r["missed"] for r in rs if step_of(r) != DEFAULT_STEP]
+            cells.append((str(d[0]) if d else "–") + (" (%d–%d)" % (min(others), max(others)) if others else ""))
         L.append("| %s | %s |" % (label, " | ".join(cells)))
-    L.append("")
     exact = [r for r in rows if r["build"] in ("stock", "quadphase")]
     paper = [r for r in rows if r["build"] == "paper"]
-    L.append("Exact builds (stock and quadphase, %d runs): %d missed contacts in total. Paper design (%d runs): "
-             "%d missed in total (%d of them with a static body), in %d of %d runs." %
-             (len(exact), sum(r["missed"] for r in exact), len(paper), sum(r["missed"] for r in paper),
-              sum(r.get("missed_static") or 0 for r in paper),
-              len([r for r in rows if r["build"] == "paper" and r["missed"] > 0]),
-              len([r for r in rows if r["build"] == "paper"])))
+    L += ["", "Exact builds (stock and quadphase, %d runs): %d missed contacts in total. Paper design (%d runs): "
+          "%d missed in total (%d of them with a static body), in %d of %d runs." %
+          (len(exact), sum(r["missed"] for r in exact), len(paper), sum(r["missed"] for r in paper),
+           sum(r.get("missed_static") or 0 for r in paper), len([r for r in paper if r["missed"] > 0]), len(paper))]
     disagree = [r for r in rows if not r["rounds_agree"]]
     if disagree:
-        L.append("")
-        L.append("Runs whose error measures differed between rounds (non-deterministic pair order): " +
-                 ", ".join("%s %s %s (missed per round: %s)" % (r["scene"], r["config"],
-                                                                 step_label((r["hz"], r["vel_iters"], r["pos_iters"])),
-                                                                 r["missed_all_rounds"]) for r in disagree) + ".")
+        L += ["", "Runs whose error measures differed between rounds (non-deterministic pair order): " +
+              ", ".join("%s %s %s (missed per round: %s)" % (r["scene"], r["config"], step_label(step_of(r)),
+                                                              r["missed_all_rounds"]) for r in disagree) + "."]
     L.append("")
-
     if os.path.exists(reading_path):
-        L.append("## Reading")
-        L.append("")
         with open(reading_path) as f:
-            L.append(f.read().strip())
-        L.append("")
-
-    L.append("## Per scene")
-    L.append("")
-    L.append("Every plot: x = run time per simulated second (ms), y = one error measure, log-log; colour = "
-             "broadphase configuration, marker = step settings; the dashed staircase is the Pareto front (no other "
-             "run is both faster and more accurate). Errors that are exactly 0 are drawn on the dotted line at "
-             "the bottom.")
-    L.append("")
+            L += ["## Reading", "", f.read().strip(), ""]
+    L += ["## Per scene", "",
+          "Every plot: x = run time per simulated second (ms), y = one error measure, log-log; colour = broadphase "
+          "configuration, marker = step settings; the dashed staircase is the Pareto front (no other run is both "
+          "faster and more accurate). Errors that are exactly 0 are drawn on the dotted line at the bottom.", ""]
     for scene, size, seconds in scenes:
         srows = [r for r in rows if r["scene"] == scene]
         if not srows:
             continue
-        L.append("### %s" % scene)
-        L.append("")
-        L.append("![%s](%s/%s.png)" % (scene, png_rel, scene))
-        L.append("")
-        extra_h, extra = [], []
-        if scene in ENERGY:
-            extra_h.append("energy drift")
-            extra.append(lambda r: fmt(r["energy_drift"], 3))
-        if scene in TOP_BOX:
-            extra_h.append("top box dx (m)")
-            extra.append(lambda r: fmt(r["top_dx"], 3))
-        if scene in NON_CHAOTIC:
-            extra_h.append("deviation mean / final (m)")
-            extra.append(lambda r: "%s / %s" % (fmt(r.get("deviation_mean"), 3), fmt(r.get("deviation_final"), 3)))
-        L.append("| configuration | step | ms per sim. s (max round) | missed | new | with a static body | per check "
-                 "| max in a check | pen. max (mm) | pen. mean (mm) | " + " | ".join(extra_h) + (" |" if extra_h else ""))
-        L.append("|---|---|---|---|---|---|---|---|---|---|" + "---|" * len(extra_h))
-        for r in srows:
-            cells = [config_text(r), step_label((r["hz"], r["vel_iters"], r["pos_iters"])),
-                     "%s (%s)" % (fmt(r["run_ms_per_sim_s"]), fmt(r["run_ms_per_sim_s_max"])), str(r["missed"]),
-                     str(r["missed_new"]), fmt(r.get("missed_static")), fmt(r["missed_per_check"]), str(r["missed_max"]), fmt(r["pen_max_mm"]),
-                     fmt(r["pen_mean_mm"])] + [f(r) for f in extra]
-            L.append("| " + " | ".join(cells) + " |")
+        extra = [(head, cell) for scenes_of, _, _, head, cell in SCENE_MEASURES if scene in scenes_of]
+        T = table(["configuration", "step", "ms per sim. s (max round)", "missed", "new", "with a static body",
+                   "per check", "max in a check", "pen. max (mm)", "pen. mean (mm)"] + [h for h, _ in extra],
+                  [[config_text(r), step_label(step_of(r)),
+                    "%s (%s)" % (fmt(r["run_ms_per_sim_s"]), fmt(r["run_ms_per_sim_s_max"])), str(r["missed"]),
+                    str(r["missed_new"]), fmt(r.get("missed_static")), fmt(r["missed_per_check"]), str(r["missed_max"]),
+                    fmt(r["pen_max_mm"]), fmt(r["pen_mean_mm"])] + [cell(r) for _, cell in extra] for r in srows])
+        if not extra:
+            T[0] += " "  # the published reports' header ends in "| " when a scene has no columns of its own
+        L += ["### %s" % scene, "", "![%s](%s/%s.png)" % (scene, png_rel, scene), ""] + T
         if scene in meta["references"]:
             ref = meta["references"][scene]
-            L.append("")
-            L.append("Reference run (stock, %s): %s ms per simulated second, missed %d, penetration max %s mm / mean "
-                     "%s mm, top box dx %s m." % (step_label(REFERENCE_STEP), fmt(ref["run_ms_per_sim_s"]),
-                                                  ref["missed"], fmt(ref["pen_max_mm"]), fmt(ref["pen_mean_mm"]),
-                                                  fmt(ref["top_dx"])))
+            L += ["", "Reference run (stock, %s): %s ms per simulated second, missed %d, penetration max %s mm / mean "
+                  "%s mm, top box dx %s m." % (step_label(REFERENCE_STEP), fmt(ref["run_ms_per_sim_s"]),
+                                               ref["missed"], fmt(ref["pen_max_mm"]), fmt(ref["pen_mean_mm"]),
+                                               fmt(ref["top_dx"]))]
         L.append("")
     with open(md_path, "w") as f:
         f.write("\n".join(L) + "\n")
@@ -523,8 +382,8 @@ def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--build-dir", required=True, help="build directory holding bench/accuracy/qp-accuracy-*")
     p.add_argument("--rounds", type=int, default=2, help="rounds of every configuration (default 2)")
-    p.add_argument("--scenes", default=",".join(s[0] for s in SCENES), help="comma-separated subset of: " +
-                   ",".join(s[0] for s in SCENES))
+    p.add_argument("--scenes", default=",".join(SCENE_NAMES),
+                   help="comma-separated subset of: " + ",".join(SCENE_NAMES))
     p.add_argument("--seed", type=int, default=1, help="seed of the shuffled run order")
     p.add_argument("--md", default=os.path.join(ROOT, "docs", "accuracy.md"), help="report to write")
     p.add_argument("--png-dir", default=os.path.join(ROOT, "docs", "accuracy"), help="folder of the plots")
@@ -537,25 +396,22 @@ def main():
     if args.rounds < 1:
         p.error("--rounds must be >= 1")
     wanted = [s for s in args.scenes.split(",") if s]
-    unknown = [s for s in wanted if s not in [x[0] for x in SCENES]]
+    unknown = [s for s in wanted if s not in SCENE_NAMES]
     if unknown:
         p.error("unknown scene(s): " + ", ".join(unknown))
     scenes = [s for s in SCENES if s[0] in wanted]
 
-    tools = os.path.join(args.build_dir, "bench", "accuracy")
     workdir = os.path.join(args.build_dir, "accuracy")
     os.makedirs(workdir, exist_ok=True)
     state = os.path.join(workdir, "accuracy.json")
     if args.replot:
-        with open(state) as f:
-            saved = json.load(f)
+        saved = report.read_json(state)
         rows, meta, info = saved["rows"], saved["meta"], saved["info"]
         if "finished" not in meta:  # results written before the field existed: the raw results' time
             meta["finished"] = datetime.datetime.utcfromtimestamp(
                 os.path.getmtime(os.path.join(workdir, "accuracy.jsonl"))).strftime("%Y-%m-%d %H:%M")
-        scenes = [s for s in SCENES if any(r["scene"] == s[0] for r in rows)]
     else:
-        runner = run.Runner("accuracy.py", tools, workdir, "accuracy",
+        runner = run.Runner("accuracy.py", os.path.join(args.build_dir, "bench", "accuracy"), workdir, "accuracy",
                             tools=["qp-accuracy-" + b for b in ("stock", "quadphase", "paper")])
         info = machine.describe(args.build_dir)
         print("%s, %s cores; %s; commit %s" % (info["cpu"], info["cores"], info["compiler"], info["commit"]))
@@ -563,20 +419,18 @@ def main():
         rows, meta = sweep(args, runner, workdir, scenes)
         if args.merge and os.path.exists(state):
             # Earlier results of the other scenes stay; the report lists every sweep's load and duration.
-            with open(state) as f:
-                saved = json.load(f)
-            ran = set(x[0] for x in scenes)
-            rows = [r for r in saved["rows"] if r["scene"] not in ran] + rows
+            saved = report.read_json(state)
+            rows = [r for r in saved["rows"] if r["scene"] not in wanted] + rows
             old = saved["meta"]
-            meta["loads"] = old["loads"] + meta["loads"]
-            meta["elapsed"] += old["elapsed"]
-            meta["references"] = dict(old["references"], **meta["references"])
-            meta["merged"] = old.get("merged", [old.get("finished", "?")]) + [meta["finished"]]
-            rows.sort(key=lambda x: [s[0] for s in SCENES].index(x["scene"]))
-            scenes = [s for s in SCENES if any(r["scene"] == s[0] for r in rows)]
+            meta.update(loads=old["loads"] + meta["loads"], elapsed=meta["elapsed"] + old["elapsed"],
+                        references=dict(old["references"], **meta["references"]),
+                        merged=old.get("merged", [old.get("finished", "?")]) + [meta["finished"]])
+            rows.sort(key=lambda x: SCENE_NAMES.index(x["scene"]))
         with open(state, "w") as f:
             json.dump(dict(rows=rows, meta=meta, info=info), f)
         report.write_csv(os.path.join(workdir, "accuracy.csv"), rows)
+    # The scenes with results (those of earlier sweeps too after --merge), in SCENES order.
+    scenes = [s for s in SCENES if any(r["scene"] == s[0] for r in rows)]
 
     os.makedirs(args.png_dir, exist_ok=True)
     plt = plot.pyplot("accuracy.py")

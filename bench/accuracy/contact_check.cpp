@@ -79,21 +79,14 @@ bool BoxShouldCollide(const b2World& world, const Proxy& a, const Proxy& b)
         }
     }
     b2ContactFilter* filter = world.GetContactManager().m_contactFilter;
-    if (filter != nullptr &&
-        !filter->ShouldCollide(const_cast<b2Fixture*>(a.fixture), const_cast<b2Fixture*>(b.fixture)))
-    {
-        return false;
-    }
-    return true;
+    return filter == nullptr ||
+           filter->ShouldCollide(const_cast<b2Fixture*>(a.fixture), const_cast<b2Fixture*>(b.fixture));
 }
 
 bool ShapesOverlap(const Proxy& a, const Proxy& b)
 {
-    if (!b2TestOverlap(a.box, b.box))
-    {
-        return false;
-    }
-    return b2TestOverlap(a.fixture->GetShape(), a.child, b.fixture->GetShape(), b.child,
+    return b2TestOverlap(a.box, b.box) &&
+           b2TestOverlap(a.fixture->GetShape(), a.child, b.fixture->GetShape(), b.child,
                          a.body->GetTransform(), b.body->GetTransform());
 }
 
@@ -112,13 +105,9 @@ MissedContacts CheckMissedContacts(const b2World& world, bool keepPairs)
             const b2Shape* shape = fixture->GetShape();
             for (int32 child = 0; child < shape->GetChildCount(); ++child)
             {
-                Proxy p;
-                shape->ComputeAABB(&p.box, body->GetTransform(), child);
-                p.fixture = fixture;
-                p.body = body;
-                p.child = child;
-                p.dynamic = body->GetType() == b2_dynamicBody;
-                proxies.push_back(p);
+                b2AABB box;
+                shape->ComputeAABB(&box, body->GetTransform(), child);
+                proxies.push_back({box, fixture, body, child, body->GetType() == b2_dynamicBody});
             }
         }
     }
@@ -132,11 +121,7 @@ MissedContacts CheckMissedContacts(const b2World& world, bool keepPairs)
 
     auto visit = [&](const Proxy& a, const Proxy& b)
     {
-        if (!a.dynamic && !b.dynamic)
-        {
-            return;
-        }
-        if (!ShapesOverlap(a, b) || !BoxShouldCollide(world, a, b))
+        if ((!a.dynamic && !b.dynamic) || !ShapesOverlap(a, b) || !BoxShouldCollide(world, a, b))
         {
             return;
         }
@@ -217,30 +202,24 @@ MissedContacts CheckMissedContacts(const b2World& world, bool keepPairs)
                 const Proxy& b = proxies[members[j]];
                 const int64_t cx = cellOf(std::max(a.box.lowerBound.x, b.box.lowerBound.x));
                 const int64_t cy = cellOf(std::max(a.box.lowerBound.y, b.box.lowerBound.y));
-                if (cellKey(cx, cy) != entry.first)
+                if (cellKey(cx, cy) == entry.first)
                 {
-                    continue;
+                    visit(a, b);
                 }
-                visit(a, b);
             }
         }
     }
     // Large boxes against everything (each pair once: a large box against a smaller index among the large
     // ones).
-    for (size_t li = 0; li < large.size(); ++li)
+    for (const int32_t i : large)
     {
-        const int32_t i = large[li];
         for (int32_t j = 0; j < static_cast<int32_t>(proxies.size()); ++j)
         {
-            if (j == i)
+            // Not i itself, nor a large box of smaller index (visited when j was the large one).
+            if (j != i && (isLarge[static_cast<size_t>(j)] == 0 || j > i))
             {
-                continue;
+                visit(proxies[i], proxies[j]);
             }
-            if (isLarge[static_cast<size_t>(j)] != 0 && j < i)
-            {
-                continue; // visited when j was the large one
-            }
-            visit(proxies[i], proxies[j]);
         }
     }
     return result;

@@ -23,8 +23,8 @@ struct ChildRef
 /// Result of one CheckMissedContacts call.
 struct MissedContacts
 {
-    int64_t overlapping =
-        0;              ///< child pairs whose shapes overlap (b2TestOverlap) and that Box2D should collide
+    /// child pairs whose shapes overlap (b2TestOverlap) and that Box2D should collide
+    int64_t overlapping = 0;
     int64_t missed = 0; ///< of those, the pairs with no b2Contact in the world's contact list
     std::vector<std::pair<ChildRef, ChildRef>> missedPairs; ///< the missed pairs (filled when asked for)
 };

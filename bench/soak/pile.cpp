@@ -22,6 +22,12 @@
 #include "box2d/b2_broad_phase.h"
 #include "tool_common.h"
 
+#if defined(QUADPHASE_VARIANT_QUADPHASE)
+constexpr const char* kVariant = "quadphase";
+#else
+constexpr const char* kVariant = "stock";
+#endif
+
 namespace
 {
 
@@ -31,19 +37,9 @@ struct Counter
     void AddPair(void*, void*) { ++pairs; }
 };
 
-const char* Variant()
-{
-#if defined(QUADPHASE_VARIANT_QUADPHASE)
-    return "quadphase";
-#else
-    return "stock";
-#endif
-}
-
 [[noreturn]] void Usage(const char* error)
 {
-    std::fprintf(stderr, "qp-pile: %s\nusage: qp-pile [--counts N1,N2,...] [--rounds R]\n", error);
-    std::exit(2);
+    qpbench::Die(2, "qp-pile: %s\nusage: qp-pile [--counts N1,N2,...] [--rounds R]\n", error);
 }
 
 } // namespace
@@ -74,7 +70,7 @@ int main(int argc, char** argv)
     }
     const int rounds = int(args.GetIntIn("rounds", 7, 1, 1000));
 
-    std::printf("qp-pile (%s build of b2BroadPhase): %d rounds per count\n", Variant(), rounds);
+    std::printf("qp-pile (%s build of b2BroadPhase): %d rounds per count\n", kVariant, rounds);
     std::printf("%8s %12s %12s %12s\n", "proxies", "pairs/round", "median_ms", "ns/pair");
     for (int n : counts)
     {

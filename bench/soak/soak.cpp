@@ -18,10 +18,12 @@
 #include <vector>
 
 #include "quadphase_scenes/scenes.h"
-#include "rss.h"
 #include "tool_common.h"
 #if defined(QUADPHASE_VARIANT_QUADPHASE)
 #include "quadphase/box2d.h"
+constexpr const char* kVariant = "quadphase";
+#else
+constexpr const char* kVariant = "stock";
 #endif
 
 namespace
@@ -39,13 +41,12 @@ struct Options
     double maxGrowth = 10.0;
 };
 
-[[noreturn]] void Usage(const char* error)
+[[noreturn]] void Usage(const std::string& error)
 {
-    std::fprintf(stderr,
+    qpbench::Die(2,
                  "qp-soak: %s\nusage: qp-soak [--steps N] [--size S] [--seed K] [--interval I] [--validate] "
                  "[--max-growth PCT]\n",
-                 error);
-    std::exit(2);
+                 error.c_str());
 }
 
 Options Parse(int argc, char** argv)
@@ -55,7 +56,7 @@ Options Parse(int argc, char** argv)
         args.Problems({"steps", "size", "seed", "interval", "max-growth", "validate", "help"});
     if (args.Has("help") || !problems.empty())
     {
-        Usage(problems.empty() ? "help" : problems.front().c_str());
+        Usage(problems.empty() ? "help" : problems.front());
     }
     Options o;
     o.steps = args.GetIntIn("steps", o.steps, 1, 100000000);
@@ -140,13 +141,36 @@ private:
     std::vector<b2Body*> m_bodies;
 };
 
-const char* Variant()
+/// Resident memory of this process, from /proc/self/status (Linux).
+struct Rss
 {
-#if defined(QUADPHASE_VARIANT_QUADPHASE)
-    return "quadphase";
-#else
-    return "stock";
-#endif
+    long currentKiB = -1; ///< VmRSS: resident now
+    long peakKiB = -1;    ///< VmHWM: the largest VmRSS so far
+};
+
+/// Reads VmRSS and VmHWM; -1 where /proc is not available.
+Rss ReadRss()
+{
+    Rss rss;
+    std::FILE* f = std::fopen("/proc/self/status", "r");
+    if (f == nullptr)
+    {
+        return rss;
+    }
+    char line[256];
+    while (std::fgets(line, sizeof(line), f) != nullptr)
+    {
+        if (std::strncmp(line, "VmRSS:", 6) == 0)
+        {
+            rss.currentKiB = std::strtol(line + 6, nullptr, 10);
+        }
+        else if (std::strncmp(line, "VmHWM:", 6) == 0)
+        {
+            rss.peakKiB = std::strtol(line + 6, nullptr, 10);
+        }
+    }
+    std::fclose(f);
+    return rss;
 }
 
 } // namespace
@@ -154,7 +178,7 @@ const char* Variant()
 int main(int argc, char** argv)
 {
     const Options o = Parse(argc, argv);
-    const qpsoak::Rss before = qpsoak::ReadRss();
+    const Rss before = ReadRss();
 
     // The scene library's churn scene when it has one, else OwnChurn.
     std::optional<quadphase::scenes::SceneId> churnId = quadphase::scenes::ParseSceneName("churn");
@@ -167,9 +191,8 @@ int main(int argc, char** argv)
         const quadphase::scenes::SceneInfo& info = quadphase::scenes::GetSceneInfo(*churnId);
         if (o.size < info.minSize || o.size > info.maxSize)
         {
-            Usage(("--size must be in [" + std::to_string(info.minSize) + ", " +
-                   std::to_string(info.maxSize) + "] for the churn scene")
-                      .c_str());
+            Usage("--size must be in [" + std::to_string(info.minSize) + ", " + std::to_string(info.maxSize) +
+                  "] for the churn scene");
         }
         scene = quadphase::scenes::BuildScene(*churnId, o.size, o.seed);
         world = scene.world.get();
@@ -190,13 +213,13 @@ int main(int argc, char** argv)
     }
 #endif
 
-    std::printf("qp-soak (%s build): %ld steps, size %d, seed %u; world: %s\n", Variant(), o.steps, o.size,
+    std::printf("qp-soak (%s build): %ld steps, size %d, seed %u; world: %s\n", kVariant, o.steps, o.size,
                 o.seed, source.c_str());
     std::printf("%10s %8s %8s %10s %10s %12s\n", "step", "bodies", "proxies", "VmRSS_KiB", "VmHWM_KiB",
                 "bp_heap_KiB");
     auto report = [&](long step)
     {
-        const qpsoak::Rss rss = qpsoak::ReadRss();
+        const Rss rss = ReadRss();
         long heap = -1;
 #if defined(QUADPHASE_VARIANT_QUADPHASE)
         heap = long(quadphase::GetStats(*world).memoryBytes / 1024);
@@ -207,9 +230,9 @@ int main(int argc, char** argv)
         return rss;
     };
     std::printf("(before building the world: VmRSS %ld KiB)\n", before.currentKiB);
-    const qpsoak::Rss start = report(0);
+    const Rss start = report(0);
     const long warmupStep = o.interval < o.steps / 10 ? o.interval : o.steps / 10;
-    qpsoak::Rss warm = start;
+    Rss warm = start;
     for (long step = 1; step <= o.steps; ++step)
     {
         if (own)
@@ -223,14 +246,14 @@ int main(int argc, char** argv)
         const bool atWarmup = step == warmupStep;
         if (step % o.interval == 0 || step == o.steps || atWarmup)
         {
-            const qpsoak::Rss now = report(step);
+            const Rss now = report(step);
             if (atWarmup)
             {
                 warm = now;
             }
         }
     }
-    const qpsoak::Rss end = qpsoak::ReadRss();
+    const Rss end = ReadRss();
     const double growth = warm.currentKiB > 0
                               ? 100.0 * double(end.currentKiB - warm.currentKiB) / double(warm.currentKiB)
                               : 0.0;

@@ -3,11 +3,11 @@
 // line.
 #pragma once
 
-#include <cstdio>
 #include <cstdlib>
 #include <string>
 
 #include "box2d/box2d.h"
+#include "tool_common.h"
 
 #if QUADPHASE_VARIANT_QUADPHASE
 #include "quadphase/box2d.h"
@@ -17,8 +17,7 @@ constexpr bool kQuadtree = true;
 constexpr const char* kVariant = "stock";
 constexpr bool kQuadtree = false;
 #else
-#error                                                                                                       \
-    "compile with QUADPHASE_VARIANT_QUADPHASE=1 or QUADPHASE_VARIANT_STOCK=1 (quadphase_link_box2d_variant)"
+#error "define QUADPHASE_VARIANT_QUADPHASE=1 or QUADPHASE_VARIANT_STOCK=1 (quadphase_link_box2d_variant)"
 #endif
 
 namespace qpbench
@@ -26,21 +25,19 @@ namespace qpbench
 
 /// --threads: "default" leaves the adapter's Config as it is (Box2D's defaults: the quadtree follows
 /// OMP_NUM_THREADS); a number sets quadphase::Config::threads. The stock build is single-threaded: only 1 or
-/// "default". Returns false (after a message) for anything else.
-inline bool ApplyThreads(b2World& world, const std::string& value)
+/// "default". Exits with status 2 (after a message) for anything else.
+inline void ApplyThreads(b2World& world, const std::string& value)
 {
     if (value == "default")
     {
-        return true;
+        return;
     }
     char* end = nullptr;
     const long threads = std::strtol(value.c_str(), &end, 10);
     if (end == value.c_str() || *end != '\0' || threads < 0 || (!kQuadtree && threads != 1))
     {
-        std::fprintf(stderr, "qp-%s: --threads must be %s, got '%s'\n", kVariant,
-                     kQuadtree ? "a count >= 0 or default" : "1 or default (stock is single-threaded)",
-                     value.c_str());
-        return false;
+        Die(2, "qp-%s: --threads must be %s, got '%s'\n", kVariant,
+            kQuadtree ? "a count >= 0 or default" : "1 or default (stock is single-threaded)", value.c_str());
     }
 #if QUADPHASE_VARIANT_QUADPHASE
     quadphase::Config config = quadphase::GetConfig(world);
@@ -49,7 +46,6 @@ inline bool ApplyThreads(b2World& world, const std::string& value)
 #else
     (void)world;
 #endif
-    return true;
 }
 
 /// OMP_NUM_THREADS as a number (0 when unset): what the quadtree's default Config follows; the JSON lines say

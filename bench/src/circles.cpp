@@ -54,8 +54,9 @@ struct Circles
     float side = 0.0f;
 
     Circles(int n, uint32_t seed)
+        : x(size_t(n)), y(size_t(n)), vx(size_t(n)), vy(size_t(n)),
+          side(std::sqrt(float(n) * 3.14159265f * kRadius * kRadius / kAreaFraction))
     {
-        side = std::sqrt(float(n) * 3.14159265f * kRadius * kRadius / kAreaFraction);
         uint64_t state = seed * 0x9E3779B97F4A7C15ull + 1;
         auto next = [&]()
         {
@@ -64,10 +65,6 @@ struct Circles
             state ^= state << 17;
             return float(state >> 40) * (1.0f / 16777216.0f);
         };
-        x.resize(size_t(n));
-        y.resize(size_t(n));
-        vx.resize(size_t(n));
-        vy.resize(size_t(n));
         for (int i = 0; i < n; ++i)
         {
             x[size_t(i)] = kRadius + next() * (side - 2 * kRadius);
@@ -402,12 +399,10 @@ int main(int argc, char** argv)
         {
             std::fprintf(stderr, "qp-circles: unknown engine '%s'\n", s.engine.c_str());
         }
-        std::fprintf(
-            stderr,
+        Die(args.Has("help") ? 0 : 2,
             "usage: qp-circles --engine pairwise|paper|stock|quadtree [--threads T] [--depth D|auto]\n"
             "       [--budget-ms 20] [--repeats 3] [--frames 10] [--warmup 20] [--start 1000]\n"
             "       [--precision 0.03] [--max-seconds 60] [--max-n N] [--seed S] [--json FILE]\n");
-        return args.Has("help") ? 0 : 2;
     }
     s.threads = int(args.GetInt("threads", 1));
     const std::string depth = args.Get("depth", "auto");
@@ -423,13 +418,14 @@ int main(int argc, char** argv)
     if (s.repeats < 1 || s.frames < 1 || s.budgetMs <= 0 || precision <= 0 || s.threads < 0 ||
         (s.engine == "paper" && s.depth != -1 && (s.depth < 1 || s.depth > 9)))
     {
-        std::fprintf(stderr, "qp-circles: bad option value (paper depth: 1..9 or auto)\n");
-        return 2;
+        Die(2, "qp-circles: bad option value (paper depth: 1..9 or auto)\n");
     }
     const std::string jsonPath = args.Get("json");
-    auto base = [&](JsonLine& j, const char* kind)
+    // A JSON line's first fields, the same on every line.
+    auto base = [&](const char* kind)
     {
-        j.Str("tool", "qp-circles")
+        return JsonLine()
+            .Str("tool", "qp-circles")
             .Str("kind", kind)
             .Str("label", args.Get("label"))
             .Str("engine", s.engine)
@@ -442,7 +438,7 @@ int main(int argc, char** argv)
 
     const int64_t start = NowNs();
     auto elapsed = [&] { return double(NowNs() - start) * 1e-9; };
-    long lo = 0, hi = 0; // largest pass, smallest fail
+    long lo = 0, hi = 0; // largest pass, smallest fail: each evaluation moves one of them
     long n = std::max(2L, args.GetInt("start", 1000));
     bool capped = false;
     int evaluations = 0;
@@ -451,70 +447,48 @@ int main(int argc, char** argv)
         const Evaluation e = Evaluate(s, int(count));
         ++evaluations;
         const bool pass = !e.aborted && e.medianMs < s.budgetMs;
-        JsonLine j;
-        base(j, "eval");
-        j.Int("n", count)
-            .Num("ms", e.medianMs)
-            .Int("pass", pass ? 1 : 0)
-            .Int("aborted", e.aborted ? 1 : 0)
-            .Int("touching", e.touching)
-            .Num("elapsed_s", elapsed());
+        const JsonLine j = base("eval")
+                               .Int("n", count)
+                               .Num("ms", e.medianMs)
+                               .Int("pass", pass ? 1 : 0)
+                               .Int("aborted", e.aborted ? 1 : 0)
+                               .Int("touching", e.touching)
+                               .Num("elapsed_s", elapsed());
         AppendLine(jsonPath, j.Text());
         std::printf("  %s n=%ld: %.2f ms/frame%s %s\n", s.engine.c_str(), count, e.medianMs,
                     e.aborted ? " (aborted)" : "", pass ? "pass" : "fail");
         std::fflush(stdout);
-        return pass;
-    };
-    while (hi == 0)
-    {
-        if (n > maxN || elapsed() > maxSeconds)
-        {
-            capped = true;
-            break;
-        }
-        if (evaluate(n))
-        {
-            lo = n;
-            n *= 2;
-        }
+        if (pass)
+            lo = count;
         else
-        {
-            hi = n;
-        }
+            hi = count;
+    };
+    // Checked before each evaluation: past --max-seconds (or `over`: past --max-n), the search stops, capped.
+    auto cap = [&](bool over)
+    {
+        capped = over || elapsed() > maxSeconds;
+        return capped;
+    };
+    while (hi == 0 && !cap(n > maxN))
+    {
+        evaluate(n);
+        n *= 2;
     }
     // The first size failed: halve until one passes (a noisy first evaluation must not end the search at 0).
-    for (n = hi / 2; hi != 0 && lo == 0 && n >= 2; n /= 2)
+    for (n = hi / 2; hi != 0 && lo == 0 && n >= 2 && !cap(false); n /= 2)
     {
-        if (elapsed() > maxSeconds)
-        {
-            capped = true;
-            break;
-        }
-        if (evaluate(n))
-            lo = n;
-        else
-            hi = n;
+        evaluate(n);
     }
-    while (hi != 0 && lo != 0 && double(hi - lo) > precision * double(lo))
+    while (hi != 0 && lo != 0 && double(hi - lo) > precision * double(lo) && !cap(false))
     {
-        if (elapsed() > maxSeconds)
-        {
-            capped = true;
-            break;
-        }
-        const long mid = (lo + hi) / 2;
-        if (evaluate(mid))
-            lo = mid;
-        else
-            hi = mid;
+        evaluate((lo + hi) / 2);
     }
-    JsonLine j;
-    base(j, "result");
-    j.Int("n_max", lo)
-        .Int("n_fail", hi)
-        .Int("capped", capped ? 1 : 0)
-        .Int("evaluations", evaluations)
-        .Num("seconds", elapsed());
+    const JsonLine j = base("result")
+                           .Int("n_max", lo)
+                           .Int("n_fail", hi)
+                           .Int("capped", capped ? 1 : 0)
+                           .Int("evaluations", evaluations)
+                           .Num("seconds", elapsed());
     AppendLine(jsonPath, j.Text());
     std::printf("%s threads=%d depth=%s: %ld circles under %.1f ms per frame%s (%d evaluations, %.0f s)\n",
                 s.engine.c_str(), s.threads, depth.c_str(), lo, s.budgetMs, capped ? " (capped)" : "",

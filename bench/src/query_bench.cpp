@@ -32,6 +32,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <numeric>
 #include <random>
 #include <string>
 #include <vector>
@@ -49,12 +50,6 @@ struct Hits
     std::vector<uint64_t> ids;     // every query's hits, one after the other
     std::vector<size_t> ends;      // end of each query's hits in ids
     std::vector<uint64_t> closest; // closest-hit rays: (id + 1) << 32 | fraction bits
-    void Clear()
-    {
-        ids.clear();
-        ends.clear();
-        closest.clear();
-    }
 };
 
 uint64_t FixtureId(b2Fixture* f)
@@ -116,7 +111,8 @@ double HitsPerRepeat(const Hits& hits, long repeats)
     return double(int64_t(hits.ids.size()) + hit) / double(repeats);
 }
 
-uint64_t HashHits(const Hits& hits)
+/// The hits' hash (see the top of the file), as 16 hex digits.
+std::string HashHits(const Hits& hits)
 {
     std::vector<uint64_t> perQuery;
     size_t begin = 0;
@@ -128,7 +124,9 @@ uint64_t HashHits(const Hits& hits)
         begin = end;
     }
     perQuery.insert(perQuery.end(), hits.closest.begin(), hits.closest.end());
-    return Fnv1a64(perQuery);
+    char hex[24];
+    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(Fnv1a64(perQuery)));
+    return hex;
 }
 
 class Bench
@@ -251,7 +249,7 @@ public:
         }
     }
 
-    /// SetTransform of `count` bodies (a random choice, new each call) to random positions and angles.
+    /// SetTransform of the bodies TeleportPlan chose to the places it drew.
     void Teleport(const std::vector<int32_t>& which, const std::vector<b2Transform>& to)
     {
         for (size_t i = 0; i < which.size(); ++i)
@@ -260,13 +258,11 @@ public:
         }
     }
 
+    /// `count` bodies (a random choice, new each call) and random positions and angles for them.
     void TeleportPlan(long count, std::vector<int32_t>& which, std::vector<b2Transform>& to)
     {
         which.resize(m_bodies.size());
-        for (size_t i = 0; i < which.size(); ++i)
-        {
-            which[i] = int32_t(i);
-        }
+        std::iota(which.begin(), which.end(), 0);
         std::shuffle(which.begin(), which.end(), m_rng);
         which.resize(size_t(std::min<long>(count, long(which.size()))));
         std::uniform_real_distribution<float> angle(0.0f, b2_pi);
@@ -300,22 +296,17 @@ int main(int argc, char** argv)
         {
             std::fprintf(stderr, "qp-query-%s: %s\n", kVariant, p.c_str());
         }
-        std::fprintf(
-            stderr,
+        Die(args.Has("help") ? 0 : 2,
             "usage: qp-query-%s [--bodies 50000] [--world 1000] [--queries 2000] [--query-size 2]\n"
             "       [--short-rays 2000] [--short-length 10] [--long-rays 200] [--teleport 37500]\n"
             "       [--teleport-queries 2000] [--repeats 3 (>= 1)] [--seed 1] [--threads T|default]\n"
             "       [--json FILE] [--label TEXT]\n",
             kVariant);
-        return args.Has("help") ? 0 : 2;
     }
     const uint32_t seed = uint32_t(args.GetInt("seed", 1));
     const int64_t setup0 = NowNs();
     Bench bench(args, seed);
-    if (!ApplyThreads(bench.World(), args.Get("threads", "default")))
-    {
-        return 2;
-    }
+    ApplyThreads(bench.World(), args.Get("threads", "default"));
     const double setupSeconds = double(NowNs() - setup0) * 1e-9;
 
     // The inputs are drawn once, before any timing, in the same order in both builds.
@@ -389,14 +380,7 @@ int main(int argc, char** argv)
         j.Num((k + "_ns").c_str(), double(Median(w.ns)))
             .Int((k + "_queries").c_str(), w.queries)
             .Num((k + "_hits").c_str(), w.contacts >= 0 ? double(w.contacts) : HitsPerRepeat(w.hits, repeats))
-            .Str((k + "_hash").c_str(),
-                 [&]
-                 {
-                     char buf[24];
-                     std::snprintf(buf, sizeof buf, "%016llx",
-                                   static_cast<unsigned long long>(HashHits(w.hits)));
-                     return std::string(buf);
-                 }());
+            .Str((k + "_hash").c_str(), HashHits(w.hits));
         std::printf("%s %-18s %10.3f ms (median of %ld), %lld queries\n", kVariant, w.name.c_str(),
                     double(Median(w.ns)) * 1e-6, repeats, static_cast<long long>(w.queries));
     }

@@ -58,9 +58,8 @@ int main(int argc, char** argv)
     const std::optional<scenes::SceneId> sceneId = scenes::ParseSceneName(args.Get("scene"));
     if (!sceneId)
     {
-        std::fprintf(stderr, "qp-record: unknown scene '%s' (%s)\n", args.Get("scene").c_str(),
+        qpbench::Die(2, "qp-record: unknown scene '%s' (%s)\n", args.Get("scene").c_str(),
                      scenes::SceneNameList().c_str());
-        return 2;
     }
     const scenes::SceneInfo& info = scenes::GetSceneInfo(*sceneId);
     const int size = int(args.GetInt("size", info.defaultSize));
@@ -70,8 +69,7 @@ int main(int argc, char** argv)
     const std::string out = args.Get("out");
     if (warmup < 0 || steps <= 0)
     {
-        std::fprintf(stderr, "qp-record: need --warmup >= 0 and --steps > 0\n");
-        return 2;
+        qpbench::Die(2, "qp-record: need --warmup >= 0 and --steps > 0\n");
     }
 
     qpbench::PrintMachine(stdout);
@@ -86,8 +84,7 @@ int main(int argc, char** argv)
     const ProxyPool& pool = quadtree.GetPool();
     if (quadtree.GetStats().updatePairsCalls != 0)
     {
-        std::fprintf(stderr, "qp-record: the scene builder already ran UpdatePairs; cannot write a creation prefix\n");
-        return 1;
+        qpbench::Die(1, "qp-record: the scene builder already ran UpdatePairs; cannot write a creation prefix\n");
     }
     const FatPolicy policy{};
     for (ProxyId id = 0; id < pool.IdBound(); ++id)
@@ -101,11 +98,8 @@ int main(int argc, char** argv)
                         proxy->aabb.upperBound.y};
         if (!SameBits(FattenNew(policy, tight), pool.Fat(id)))
         {
-            std::fprintf(stderr,
-                         "qp-record: proxy %d's fat box is not its creation box fattened (the scene builder moved "
-                         "it); cannot write an exact creation prefix\n",
-                         int(id));
-            return 1;
+            qpbench::Die(1, "qp-record: proxy %d's fat box is not its creation box fattened (the scene builder "
+                            "moved it); cannot write an exact creation prefix\n", int(id));
         }
         trace.Add(TraceOp{TraceOp::Create, id, tight, Vec2{0.0f, 0.0f}});
     }
@@ -146,15 +140,13 @@ int main(int argc, char** argv)
 
     // Counts: whole trace, and the S timed steps.
     const std::vector<TraceOp>& ops = trace.Ops();
-    int64_t calls = 0, timedCalls = 0, timedOps = 0, timedMoves = 0;
     const size_t firstTimed = size_t(index.boundary[size_t(warmup)]);
-    for (size_t i = 0; i < ops.size(); ++i)
+    const int64_t timedOps = int64_t(ops.size() - firstTimed);
+    int64_t timedCalls = 0, timedMoves = 0;
+    for (size_t i = firstTimed; i < ops.size(); ++i)
     {
-        const bool timed = i >= firstTimed;
-        calls += ops[i].kind == TraceOp::UpdatePairs ? 1 : 0;
-        timedCalls += (timed && ops[i].kind == TraceOp::UpdatePairs) ? 1 : 0;
-        timedOps += timed ? 1 : 0;
-        timedMoves += (timed && ops[i].kind == TraceOp::Move) ? 1 : 0;
+        timedCalls += ops[i].kind == TraceOp::UpdatePairs ? 1 : 0;
+        timedMoves += ops[i].kind == TraceOp::Move ? 1 : 0;
     }
     std::printf("scene %s size %d seed %u: built in %.2f s; %d warm-up steps in %.2f s, %d recorded steps in %.2f s "
                 "(Box2D, quadphase build, trace recording on)\n",
@@ -162,7 +154,7 @@ int main(int argc, char** argv)
     std::printf("bodies %" PRId64 ", proxies %" PRId64 "\n", index.bodies, index.proxies);
     std::printf("ops %zu (%" PRId64 " in the %d timed steps: %" PRId64 " MoveProxy), UpdatePairs calls %" PRId64
                 " (%" PRId64 " in the timed steps)\n",
-                ops.size(), timedOps, steps, timedMoves, calls, timedCalls);
+                ops.size(), timedOps, steps, timedMoves, trace.UpdatePairsCount(), timedCalls);
     std::printf("wrote %s (%.1f MB) and %s.steps\n", out.c_str(),
                 double(ops.size() * sizeof(TraceOp)) / (1024.0 * 1024.0), out.c_str());
     return 0;

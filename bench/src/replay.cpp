@@ -17,11 +17,9 @@
 // --per-call adds to the JSON lines the FindPairs time of every timed UpdatePairs call (timed runs) and its number
 // of buffered proxies (checking runs; the same for every configuration, since it depends only on the trace), so
 // the cost of a call can be studied by its size (where a parallel region starts paying).
-#include <cinttypes>
-#include <cmath>
 #include <cstdio>
 #include <memory>
-#include <type_traits>
+#include <sstream>
 #include <string>
 
 #include <omp.h>
@@ -42,35 +40,20 @@ using quadphase::Config;
 using quadphase::ProxyId;
 using quadphase::Schedule;
 
+const std::pair<const char*, Schedule> kSchedules[] = {
+    {"static", Schedule::Static}, {"dynamic", Schedule::Dynamic}, {"guided", Schedule::Guided},
+    {"auto", Schedule::Auto}};
+
 const char* ScheduleName(Schedule s)
 {
-    switch (s)
+    for (const auto& k : kSchedules)
     {
-    case Schedule::Static:
-        return "static";
-    case Schedule::Dynamic:
-        return "dynamic";
-    case Schedule::Guided:
-        return "guided";
-    case Schedule::Auto:
-        return "auto";
+        if (k.second == s)
+        {
+            return k.first;
+        }
     }
     return "?";
-}
-
-bool ParseSchedule(const std::string& s, Schedule& out)
-{
-    if (s == "static")
-        out = Schedule::Static;
-    else if (s == "dynamic")
-        out = Schedule::Dynamic;
-    else if (s == "guided")
-        out = Schedule::Guided;
-    else if (s == "auto")
-        out = Schedule::Auto;
-    else
-        return false;
-    return true;
 }
 
 int ToInt(const std::string& key, const std::string& v)
@@ -79,8 +62,7 @@ int ToInt(const std::string& key, const std::string& v)
     const long x = std::strtol(v.c_str(), &end, 10);
     if (v.empty() || *end != '\0')
     {
-        std::fprintf(stderr, "qp-replay: %s: '%s' is not an integer\n", key.c_str(), v.c_str());
-        std::exit(2);
+        Die(2, "qp-replay: %s: '%s' is not an integer\n", key.c_str(), v.c_str());
     }
     return int(x);
 }
@@ -97,16 +79,17 @@ void SetKey(Config& c, const std::string& key, const std::string& value)
         c.parallelThreshold = ToInt(key, value);
     else if (key == "schedule")
     {
-        if (!ParseSchedule(value, c.schedule))
+        const auto* k = std::find_if(std::begin(kSchedules), std::end(kSchedules),
+                                     [&](const auto& named) { return value == named.first; });
+        if (k == std::end(kSchedules))
         {
-            std::fprintf(stderr, "qp-replay: unknown schedule '%s'\n", value.c_str());
-            std::exit(2);
+            Die(2, "qp-replay: unknown schedule '%s'\n", value.c_str());
         }
+        c.schedule = k->second;
     }
     else
     {
-        std::fprintf(stderr, "qp-replay: unknown --config key '%s'\n", key.c_str());
-        std::exit(2);
+        Die(2, "qp-replay: unknown --config key '%s'\n", key.c_str());
     }
 }
 
@@ -175,11 +158,7 @@ struct QueryStats
             return;
         }
         const int64_t n = int64_t(buffered.size());
-        int b = kBuckets - 1;
-        while (b > 0 && n < kEdges[b])
-        {
-            --b;
-        }
+        const int b = int(std::upper_bound(kEdges, kEdges + kBuckets, n) - kEdges) - 1; // the last edge <= n
         callsIn[b] += 1;
         queriesIn[b] += n;
         calls += 1;
@@ -220,7 +199,6 @@ struct QueryStats
     }
     std::vector<ProxyId> m_pending;
 };
-constexpr int QueryStats::kEdges[QueryStats::kBuckets];
 
 /// Cost of one parallel region (an OpenMP loop over `blocks` empty iterations at `threads`), median of many.
 double ParallelRegionMicros(int threads, omp_sched_t kind, int blocks)
@@ -300,22 +278,24 @@ int main(int argc, char** argv)
     if (args.Has("print-config"))
     {
         // The core's defaults, for scripts (bench/parallel.py reads the default parallelThreshold).
-        const Config defaults;
-        std::printf("default_config %s\n", Describe(defaults).c_str());
+        std::printf("default_config %s\n", Describe(Config{}).c_str());
         return 0;
     }
     PrintMachine(stdout);
     const std::string jsonPath = args.Get("json");
     const std::string label = args.Get("label");
+    const auto toolJson = [&](const char* kind) {
+        JsonLine j;
+        j.Str("tool", "qp-replay").Str("kind", kind).Str("label", label);
+        return j;
+    };
 
     if (args.Has("triad"))
     {
         // The memory floor's bandwidth: 3 x 64 MB, far beyond the caches.
         const double bps = TriadBytesPerSecond(size_t(8) << 20, 10);
         std::printf("triad, 1 thread: %.2f GB/s\n", bps * 1e-9);
-        JsonLine j;
-        j.Str("tool", "qp-replay").Str("kind", "triad").Str("label", label).Num("bytes_per_s", bps);
-        AppendLine(jsonPath, j.Text());
+        AppendLine(jsonPath, toolJson("triad").Num("bytes_per_s", bps).Text());
         if (!args.Has("trace"))
         {
             return 0;
@@ -332,10 +312,8 @@ int main(int argc, char** argv)
             {
                 const double us = ParallelRegionMicros(2, k.second, blocks);
                 std::printf("omp parallel region, 2 threads, %s, %d empty iterations: %.2f us\n", k.first, blocks, us);
-                JsonLine j;
-                j.Str("tool", "qp-replay").Str("kind", "omp_overhead").Str("label", label).Str("schedule", k.first)
-                    .Int("threads", 2).Int("blocks", blocks).Num("us", us);
-                AppendLine(jsonPath, j.Text());
+                AppendLine(jsonPath, toolJson("omp_overhead").Str("schedule", k.first).Int("threads", 2)
+                                         .Int("blocks", blocks).Num("us", us).Text());
             }
         }
         if (!args.Has("trace"))
@@ -354,16 +332,13 @@ int main(int argc, char** argv)
                 static_cast<long long>(index.proxies));
 
     Config base;
-    if (args.Has("threads"))
-        SetKey(base, "threads", args.Get("threads"));
-    if (args.Has("schedule"))
-        SetKey(base, "schedule", args.Get("schedule"));
-    if (args.Has("chunk"))
-        SetKey(base, "chunk", args.Get("chunk"));
-    if (args.Has("depth"))
-        SetKey(base, "depth", args.Get("depth"));
-    if (args.Has("threshold"))
-        SetKey(base, "threshold", args.Get("threshold"));
+    for (const char* key : {"threads", "schedule", "chunk", "depth", "threshold"})
+    {
+        if (args.Has(key))
+        {
+            SetKey(base, key, args.Get(key));
+        }
+    }
     std::vector<Config> configs;
     for (const std::string& spec : args.GetAll("config"))
     {
@@ -375,8 +350,7 @@ int main(int argc, char** argv)
             const size_t eq = kv.find('=');
             if (eq == std::string::npos)
             {
-                std::fprintf(stderr, "qp-replay: --config '%s': expected key=value\n", spec.c_str());
-                return 2;
+                Die(2, "qp-replay: --config '%s': expected key=value\n", spec.c_str());
             }
             SetKey(c, kv.substr(0, eq), kv.substr(eq + 1));
         }
@@ -391,15 +365,17 @@ int main(int argc, char** argv)
     const std::string check = args.Get("check", "first");
     const bool perCall = args.Has("per-call");
 
-    auto baseJson = [&](JsonLine& j, const char* kind) {
-        j.Str("tool", "qp-replay").Str("kind", kind).Str("label", label).Str("trace", loaded.name)
-            .Str("scene", index.scene).Int("size", index.size).Int("warmup", index.warmup);
+    const auto baseJson = [&](const char* kind) {
+        JsonLine j = toolJson(kind);
+        j.Str("trace", loaded.name).Str("scene", index.scene).Int("size", index.size).Int("warmup", index.warmup);
+        return j;
     };
     if (engineName != "quadtree" && engineName != "null")
     {
-        return RunPeer(PeerRun{args, loaded, engineName, [&](JsonLine& j, const char* kind) {
-                                   baseJson(j, kind);
+        return RunPeer(PeerRun{args, loaded, engineName, [&](const char* kind) {
+                                   JsonLine j = baseJson(kind);
                                    j.Str("engine", engineName).Int("threads", int(args.GetInt("threads", 1)));
+                                   return j;
                                }});
     }
     auto configJson = [&](JsonLine& j, const Config& c) {
@@ -413,15 +389,12 @@ int main(int argc, char** argv)
         {
             NullEngine engine;
             const RunResult result = Replay(loaded, engine);
-            JsonLine j;
-            baseJson(j, "run");
+            JsonLine j = baseJson("run");
             j.Str("engine", "null").Int("rep", r);
             AddRun(j, result);
             AppendLine(jsonPath, j.Text());
-            double total = 0;
-            for (const StepSample& s : result.steps)
-                total += double(s.ns);
-            std::printf("null engine rep %d: %.3f ms per step (replay loop overhead)\n", r, total / index.steps * 1e-6);
+            std::printf("null engine rep %d: %.3f ms per step (replay loop overhead)\n", r,
+                        double(result.Total(&StepSample::ns)) / index.steps * 1e-6);
         }
         return 0;
     }
@@ -435,27 +408,18 @@ int main(int argc, char** argv)
         {
             if (index.proxies > 20000 && !args.Has("force-brute"))
             {
-                std::fprintf(stderr, "qp-replay: --brute on %lld proxies would take too long (--force-brute)\n",
-                             static_cast<long long>(index.proxies));
-                return 2;
+                Die(2, "qp-replay: --brute on %lld proxies would take too long (--force-brute)\n",
+                    static_cast<long long>(index.proxies));
             }
             CoreEngine<quadphase::BruteForceBroadPhase> engine;
             Replay(loaded, engine, &brute);
             std::printf("brute force: %zu UpdatePairs calls hashed\n", brute.size());
         }
-        std::vector<CallHash> reference;
         const std::string compareWith = args.Get("compare-hashes");
-        if (!compareWith.empty() && !LoadHashes(compareWith, reference))
+        const std::vector<CallHash> reference = LoadHashesOrDie(compareWith);
+        const size_t checked = check == "first" ? 1 : configs.size();
+        for (size_t ci = 0; ci < checked; ++ci)
         {
-            std::fprintf(stderr, "qp-replay: cannot read hashes from %s\n", compareWith.c_str());
-            return 1;
-        }
-        for (size_t ci = 0; ci < configs.size(); ++ci)
-        {
-            if (check == "first" && ci > 0)
-            {
-                break;
-            }
             const Config& c = configs[ci];
             CoreEngine<quadphase::QuadtreeBroadPhase> engine(quadphase::FatPolicy{}, c);
             engine.SetTracking(true);
@@ -473,10 +437,9 @@ int main(int argc, char** argv)
                 bad += CompareHashes(hashes, reference, "quadtree", compareWith.c_str());
             }
             mismatches += bad;
-            if (ci == 0 && args.Has("hashes-out") && !SaveHashes(args.Get("hashes-out"), hashes))
+            if (ci == 0 && args.Has("hashes-out"))
             {
-                std::fprintf(stderr, "qp-replay: cannot write %s\n", args.Get("hashes-out").c_str());
-                return 1;
+                SaveHashesOrDie(args.Get("hashes-out"), hashes);
             }
             const double q = double(std::max<int64_t>(1, qs.queries));
             std::printf("check [%s]: %zu calls hashed, %s; depth %d, leaf %.3g m, %.3g buffered/call, %.3g cells, "
@@ -486,8 +449,7 @@ int main(int argc, char** argv)
                         st.depth, double(st.leafSize), double(qs.queries) / double(std::max<int64_t>(1, qs.calls)),
                         double(qs.cells) / q, double(qs.candidates) / q, double(qs.overlaps) / q,
                         double(qs.pairs) / q);
-            JsonLine j;
-            baseJson(j, "check");
+            JsonLine j = baseJson("check");
             configJson(j, c);
             j.Int("calls_hashed", int64_t(hashes.size())).Int("mismatches", bad)
                 .Int("compared_brute", brute.empty() ? 0 : 1).Int("compared_file", reference.empty() ? 0 : 1)
@@ -501,13 +463,11 @@ int main(int argc, char** argv)
                 .Int("floor_bytes", int64_t(sizeof(quadphase::Box)) * qs.queries +
                                         int64_t(sizeof(quadphase::Entry)) * (qs.candidates + qs.queries) +
                                         int64_t(sizeof(quadphase::Pair)) * qs.pairs)
-                .Int("timed_steps", index.steps);
-            std::vector<int64_t> callsIn(qs.callsIn, qs.callsIn + QueryStats::kBuckets);
-            std::vector<int64_t> queriesIn(qs.queriesIn, qs.queriesIn + QueryStats::kBuckets);
-            std::vector<int> edges(QueryStats::kEdges, QueryStats::kEdges + QueryStats::kBuckets);
-            j.Array("bucket_edges", edges).Array("bucket_calls", callsIn).Array("bucket_queries", queriesIn);
-            std::vector<int> perLevel(st.proxiesPerLevel.begin(), st.proxiesPerLevel.end());
-            j.Array("proxies_per_level", perLevel);
+                .Int("timed_steps", index.steps)
+                .Array("bucket_edges", QueryStats::kEdges)
+                .Array("bucket_calls", qs.callsIn)
+                .Array("bucket_queries", qs.queriesIn)
+                .Array("proxies_per_level", st.proxiesPerLevel);
             if (perCall)
             {
                 j.Array("calls_buffered", qs.callBuffered);
@@ -529,8 +489,7 @@ int main(int argc, char** argv)
             const RunResult result = Replay(loaded, *engine);
             const int64_t heap = HeapBytes() - heap0; // what the engine holds after the whole trace (heap_bytes.h)
             const quadphase::Stats st = engine->Get().GetStats();
-            JsonLine j;
-            baseJson(j, "run");
+            JsonLine j = baseJson("run");
             j.Str("engine", "quadtree");
             configJson(j, c);
             // updateSeconds: the time the core itself booked as grid maintenance during the timed steps (MoveProxy
@@ -545,18 +504,11 @@ int main(int argc, char** argv)
                 j.Array("calls_ns", result.callNs);
             }
             AppendLine(jsonPath, j.Text());
-            double total = 0, find = 0, proxies = 0, pairs = 0;
-            for (const StepSample& s : result.steps)
-            {
-                total += double(s.ns);
-                find += double(s.findNs);
-                proxies += s.proxies;
-                pairs += double(s.pairs);
-            }
-            perConfigMs[ci].push_back(total / index.steps * 1e-6);
-            perConfigFindMs[ci].push_back(find / index.steps * 1e-6);
-            meanProxies[ci] = proxies / index.steps;
-            pairsPerStep[ci] = pairs / index.steps;
+            const auto perStep = [&](auto field) { return double(result.Total(field)) / index.steps; };
+            perConfigMs[ci].push_back(perStep(&StepSample::ns) * 1e-6);
+            perConfigFindMs[ci].push_back(perStep(&StepSample::findNs) * 1e-6);
+            meanProxies[ci] = perStep(&StepSample::proxies);
+            pairsPerStep[ci] = perStep(&StepSample::pairs);
         }
     }
     if (repeats > 0)
@@ -572,8 +524,7 @@ int main(int argc, char** argv)
     }
     if (mismatches != 0)
     {
-        std::fprintf(stderr, "qp-replay: %lld MISMATCHING UpdatePairs calls\n", static_cast<long long>(mismatches));
-        return 3;
+        Die(3, "qp-replay: %lld MISMATCHING UpdatePairs calls\n", static_cast<long long>(mismatches));
     }
     return 0;
 }

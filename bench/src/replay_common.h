@@ -14,17 +14,13 @@
 #pragma once
 
 #include <algorithm>
-#include <chrono>
+#include <climits>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
-#include <climits>
-#include <cstring>
 #include <fstream>
-#include <map>
-#include <sstream>
+#include <numeric>
 #include <string>
-#include <thread>
 #include <vector>
 
 #if __has_include(<valgrind/callgrind.h>)
@@ -73,8 +69,9 @@ inline CallHash HashPairKeys(std::vector<uint64_t>& keys)
     return CallHash{uint64_t(keys.size()), Fnv1a64(keys)};
 }
 
-/// Writes "call count hash" lines (call = index of the UpdatePairs call in the trace, from 0).
-inline bool SaveHashes(const std::string& path, const std::vector<CallHash>& hashes)
+/// Writes "call count hash" lines (call = index of the UpdatePairs call in the trace, from 0); exits when it
+/// cannot.
+inline void SaveHashesOrDie(const std::string& path, const std::vector<CallHash>& hashes)
 {
     std::ofstream out(path);
     out << "# qp-pairhash 1: call unique_pairs fnv1a64(sorted unique pairs in recorded ids)\n";
@@ -85,17 +82,26 @@ inline bool SaveHashes(const std::string& path, const std::vector<CallHash>& has
                       static_cast<unsigned long long>(hashes[i].hash));
         out << buf;
     }
-    return bool(out);
+    if (!out)
+    {
+        out.close(); // what the destructor would write; exit skips it
+        Die(1, "qp-replay: cannot write %s\n", path.c_str());
+    }
 }
 
-inline bool LoadHashes(const std::string& path, std::vector<CallHash>& hashes)
+/// The hashes SaveHashesOrDie wrote to `path` (none when `path` is empty); exits when they cannot be read.
+inline std::vector<CallHash> LoadHashesOrDie(const std::string& path)
 {
+    std::vector<CallHash> hashes;
+    if (path.empty())
+    {
+        return hashes;
+    }
     std::ifstream in(path);
     if (!in)
     {
-        return false;
+        Die(1, "qp-replay: cannot read hashes from %s\n", path.c_str());
     }
-    hashes.clear();
     std::string line;
     while (std::getline(in, line))
     {
@@ -106,11 +112,11 @@ inline bool LoadHashes(const std::string& path, std::vector<CallHash>& hashes)
         unsigned long long index = 0, count = 0, hash = 0;
         if (std::sscanf(line.c_str(), "%llu %llu %llx", &index, &count, &hash) != 3 || index != hashes.size())
         {
-            return false;
+            Die(1, "qp-replay: cannot read hashes from %s\n", path.c_str());
         }
         hashes.push_back(CallHash{count, hash});
     }
-    return true;
+    return hashes;
 }
 
 /// Number of calls whose hashes differ (a length difference counts as mismatches); prints the first few.
@@ -155,26 +161,17 @@ inline void LoadOrDie(const std::string& path, const std::string& stepsPath, Loa
 {
     std::string error;
     loaded.path = path;
-    const size_t slash = path.find_last_of('/');
-    std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
-    const size_t dot = name.find('.');
-    loaded.name = dot == std::string::npos ? name : name.substr(0, dot);
-    if (!loaded.trace.Load(path, error))
+    const std::string file = path.substr(path.find_last_of('/') + 1); // npos + 1: no directory
+    loaded.name = file.substr(0, file.find('.'));
+    if (!loaded.trace.Load(path, error) || !loaded.steps.Load(stepsPath.empty() ? path + ".steps" : stepsPath, error))
     {
-        std::fprintf(stderr, "%s\n", error.c_str());
-        std::exit(1);
-    }
-    if (!loaded.steps.Load(stepsPath.empty() ? path + ".steps" : stepsPath, error))
-    {
-        std::fprintf(stderr, "%s\n", error.c_str());
-        std::exit(1);
+        Die(1, "%s\n", error.c_str());
     }
     const std::vector<TraceOp>& ops = loaded.trace.Ops();
     if (loaded.steps.boundary.back() != ops.size())
     {
-        std::fprintf(stderr, "%s: the step file ends at op %llu but the trace has %zu ops\n", path.c_str(),
-                     static_cast<unsigned long long>(loaded.steps.boundary.back()), ops.size());
-        std::exit(1);
+        Die(1, "%s: the step file ends at op %llu but the trace has %zu ops\n", path.c_str(),
+            static_cast<unsigned long long>(loaded.steps.boundary.back()), ops.size());
     }
     int32_t bound = 0;
     for (const TraceOp& op : ops)
@@ -193,15 +190,13 @@ inline void LoadOrDie(const std::string& path, const std::string& stepsPath, Loa
         {
             if (op.id < 0 || live[size_t(op.id)])
             {
-                std::fprintf(stderr, "%s: op %zu creates id %d, which is live\n", path.c_str(), i, int(op.id));
-                std::exit(1);
+                Die(1, "%s: op %zu creates id %d, which is live\n", path.c_str(), i, int(op.id));
             }
             live[size_t(op.id)] = 1;
         }
         else if (usesId && (op.id < 0 || op.id >= bound || !live[size_t(op.id)]))
         {
-            std::fprintf(stderr, "%s: op %zu uses id %d, which is not live\n", path.c_str(), i, int(op.id));
-            std::exit(1);
+            Die(1, "%s: op %zu uses id %d, which is not live\n", path.c_str(), i, int(op.id));
         }
         else if (op.kind == TraceOp::Destroy)
         {
@@ -229,6 +224,24 @@ struct RunResult
     std::vector<StepSample> steps;
     std::vector<int32_t> callNs; // every UpdatePairs call of the timed steps, in order: its own clock-read pair
     double setupSeconds = 0.0; // untimed prefix (creation + warm-up)
+
+    /// One field of every step, in order, and its sum.
+    template <typename T>
+    std::vector<int64_t> Column(T StepSample::*field) const
+    {
+        std::vector<int64_t> column;
+        for (const StepSample& s : steps)
+        {
+            column.push_back(s.*field);
+        }
+        return column;
+    }
+    template <typename T>
+    int64_t Total(T StepSample::*field) const
+    {
+        const std::vector<int64_t> column = Column(field);
+        return std::accumulate(column.begin(), column.end(), int64_t(0));
+    }
 };
 
 /// Hooks for the untimed checking run. `BeforeUpdatePairs(engine, timed)` runs before each UpdatePairs;
@@ -398,45 +411,30 @@ RunResult Replay(const LoadedTrace& loaded, Engine& engine, std::vector<CallHash
 /// Adds the per-step arrays and totals of a run to a JSON line.
 inline void AddRun(JsonLine& j, const RunResult& r)
 {
-    std::vector<int64_t> ns, findNs, calls, pairs, proxies, opsCount;
-    int64_t totalNs = 0, totalFind = 0, totalCalls = 0, totalPairs = 0;
-    double proxySum = 0.0;
-    for (const StepSample& s : r.steps)
-    {
-        ns.push_back(s.ns);
-        findNs.push_back(s.findNs);
-        calls.push_back(s.calls);
-        pairs.push_back(s.pairs);
-        proxies.push_back(s.proxies);
-        opsCount.push_back(s.ops);
-        totalNs += s.ns;
-        totalFind += s.findNs;
-        totalCalls += s.calls;
-        totalPairs += s.pairs;
-        proxySum += s.proxies;
-    }
     const double steps = double(std::max<size_t>(1, r.steps.size()));
+    const int64_t totalNs = r.Total(&StepSample::ns);
+    const double proxySum = double(r.Total(&StepSample::proxies));
     j.Int("steps", int64_t(r.steps.size()))
         .Num("mean_proxies", proxySum / steps)
         .Num("step_ns", double(totalNs) / steps)
-        .Num("find_ns", double(totalFind) / steps)
-        .Num("calls_per_step", double(totalCalls) / steps)
-        .Num("pairs_per_step", double(totalPairs) / steps)
+        .Num("find_ns", double(r.Total(&StepSample::findNs)) / steps)
+        .Num("calls_per_step", double(r.Total(&StepSample::calls)) / steps)
+        .Num("pairs_per_step", double(r.Total(&StepSample::pairs)) / steps)
         .Num("ns_per_proxy_step", proxySum > 0.0 ? double(totalNs) / proxySum : 0.0)
         .Num("setup_s", r.setupSeconds)
-        .Array("steps_ns", ns)
-        .Array("steps_find_ns", findNs)
-        .Array("steps_calls", calls)
-        .Array("steps_pairs", pairs)
-        .Array("steps_ops", opsCount);
+        .Array("steps_ns", r.Column(&StepSample::ns))
+        .Array("steps_find_ns", r.Column(&StepSample::findNs))
+        .Array("steps_calls", r.Column(&StepSample::calls))
+        .Array("steps_pairs", r.Column(&StepSample::pairs))
+        .Array("steps_ops", r.Column(&StepSample::ops));
 }
 
-/// The timed runs of every engine but the quadtree (replay_peers.cpp): `repeats` replays, each of a fresh engine from make();
-/// one JSON line per run (base(j, "run"), the run's heap bytes per proxy as heap_bytes.h measures them, extra(j,
-/// engine), the per-step arrays), a line per run and the median on stdout.
-template <typename Make, typename Base, typename Extra>
+/// The timed runs of every engine but the quadtree (replay_peers.cpp): `repeats` replays, each of a fresh engine
+/// from make(); one JSON line per run (base("run"), the run's heap bytes per proxy as heap_bytes.h measures them,
+/// the per-step arrays), a line per run and the median on stdout.
+template <typename Make, typename Base>
 void TimedRuns(const LoadedTrace& loaded, const char* name, int repeats, const std::string& jsonPath, Make make,
-               Base base, Extra extra)
+               Base base)
 {
     std::vector<double> ms;
     for (int r = 0; r < repeats; ++r)
@@ -446,21 +444,14 @@ void TimedRuns(const LoadedTrace& loaded, const char* name, int repeats, const s
         const RunResult result = Replay(loaded, *engine);
         const int64_t heap = HeapBytes() - heap0; // what the engine holds after the whole trace
         const double perProxy = double(heap) / std::max(1, engine->ProxyCount());
-        JsonLine j;
-        base(j, "run");
+        JsonLine j = base("run");
         j.Int("rep", r).Int("heap_bytes", heap).Int("proxies_end", engine->ProxyCount()).Num("bytes_per_proxy", perProxy);
-        extra(j, *engine);
         AddRun(j, result);
         AppendLine(jsonPath, j.Text());
-        double total = 0, proxies = 0;
-        for (const StepSample& s : result.steps)
-        {
-            total += double(s.ns);
-            proxies += s.proxies;
-        }
+        const double total = double(result.Total(&StepSample::ns));
         ms.push_back(total / loaded.steps.steps * 1e-6);
         std::printf("%s rep %d: %.3f ms/step, %.1f ns/proxy/step, %.0f bytes/proxy\n", name, r, ms.back(),
-                    total / std::max(1.0, proxies), perProxy);
+                    total / std::max(1.0, double(result.Total(&StepSample::proxies))), perProxy);
     }
     if (!ms.empty())
     {

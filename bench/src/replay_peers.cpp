@@ -25,7 +25,6 @@
 #include <cstdio>
 #include <memory>
 #include <string>
-#include <type_traits>
 #include <vector>
 
 #include "b2_box.h"
@@ -356,13 +355,9 @@ private:
 };
 
 /// Checks a native engine after every UpdatePairs: its unique pair set against all overlapping fat-box pairs.
-struct NativeCheck
+struct NativeCheck : NoObserver
 {
     int64_t calls = 0, mismatches = 0, duplicates = 0;
-    template <typename Engine>
-    void BeforeUpdatePairs(Engine&, bool)
-    {
-    }
     template <typename Engine>
     void AfterUpdatePairs(Engine& engine, bool)
     {
@@ -429,30 +424,23 @@ int AutoLevels(const Geometry& g)
     return best;
 }
 
-template <typename T, typename = void>
-struct HasBoxes : std::false_type
-{
-};
-template <typename T>
-struct HasBoxes<T, std::void_t<decltype(&T::Boxes)>> : std::true_type
-{
-};
+template <typename Engine>
+constexpr bool kNative = false;
+template <typename Index>
+constexpr bool kNative<NativeEngine<Index>> = true;
 
-/// Untimed check, then the timed runs. `kind`: "protocol" (hashes against --compare-hashes, or written to
-/// --hashes-out), "native" (NativeCheck) or "none".
+/// Untimed check (unless `checked` is false; --check none), then the timed runs. Box2D's protocol: hashes against
+/// --compare-hashes, or written to --hashes-out; native mode: NativeCheck.
 template <typename Engine, typename Make>
-int RunEngine(const PeerRun& run, Make make, const char* kind)
+int RunEngine(const PeerRun& run, Make make, bool checked = true)
 {
-    const std::string check = run.args.Get("check", "first");
     int64_t bad = 0;
-    if (check != "none" && std::string(kind) != "none")
+    if (checked && run.args.Get("check", "first") != "none")
     {
         std::unique_ptr<Engine> engine = make();
-        JsonLine j;
-        run.base(j, "check");
-        std::vector<CallHash> hashes;
+        JsonLine j = run.base("check");
         int64_t calls = 0;
-        if constexpr (HasBoxes<Engine>::value)
+        if constexpr (kNative<Engine>)
         {
             NativeCheck nc;
             Replay(run.loaded, *engine, nullptr, &nc);
@@ -461,20 +449,14 @@ int RunEngine(const PeerRun& run, Make make, const char* kind)
         }
         else
         {
+            std::vector<CallHash> hashes;
             Replay(run.loaded, *engine, &hashes);
             calls = int64_t(hashes.size());
-            std::vector<CallHash> reference;
-            const std::string out = run.args.Get("hashes-out"), in = run.args.Get("compare-hashes");
-            if (!out.empty() && !SaveHashes(out, hashes))
+            if (!run.args.Get("hashes-out").empty())
             {
-                std::fprintf(stderr, "qp-replay: cannot write %s\n", out.c_str());
-                return 1;
+                SaveHashesOrDie(run.args.Get("hashes-out"), hashes);
             }
-            if (!in.empty() && !LoadHashes(in, reference))
-            {
-                std::fprintf(stderr, "qp-replay: cannot read hashes from %s\n", in.c_str());
-                return 1;
-            }
+            const std::vector<CallHash> reference = LoadHashesOrDie(run.args.Get("compare-hashes"));
             bad = reference.empty() ? 0 : CompareHashes(hashes, reference, run.engine.c_str(), "stock");
             j.Str("checked_against", reference.empty() ? "" : "stock").Int("compared_file", reference.empty() ? 0 : 1);
         }
@@ -483,8 +465,7 @@ int RunEngine(const PeerRun& run, Make make, const char* kind)
         j.Int("calls_hashed", calls).Int("mismatches", bad);
         AppendLine(run.args.Get("json"), j.Text());
     }
-    TimedRuns(run.loaded, run.engine.c_str(), int(run.args.GetInt("repeats", 5)), run.args.Get("json"), make, run.base,
-              [](JsonLine&, const Engine&) {});
+    TimedRuns(run.loaded, run.engine.c_str(), int(run.args.GetInt("repeats", 5)), run.args.Get("json"), make, run.base);
     return bad != 0 ? 3 : 0;
 }
 
@@ -500,22 +481,20 @@ int RunPeer(const PeerRun& run)
     const double cellScale = x == std::string::npos ? 1.0 : std::atof(e.c_str() + x + 2);
     const float multiplier = m == std::string::npos ? 4.0f : float(std::atof(e.c_str() + m + 2));
     const std::string base = e.substr(0, std::min({e.find("-native"), x, m}));
-    const char* mode = native ? "native" : "protocol";
     if (base == "stock")
     {
-        return RunEngine<StockEngine>(run, [] { return std::make_unique<StockEngine>(); }, mode);
+        return RunEngine<StockEngine>(run, [] { return std::make_unique<StockEngine>(); });
     }
     if (base == "brute")
     {
         const long maxProxies = run.args.GetInt("max-proxies", 20000);
         if (loaded.steps.proxies > maxProxies)
         {
-            std::fprintf(stderr, "qp-replay: brute force on %lld proxies (> --max-proxies %ld) refused\n",
-                         static_cast<long long>(loaded.steps.proxies), maxProxies);
-            return 2;
+            Die(2, "qp-replay: brute force on %lld proxies (> --max-proxies %ld) refused\n",
+                static_cast<long long>(loaded.steps.proxies), maxProxies);
         }
         using E = CoreEngine<quadphase::BruteForceBroadPhase>;
-        return RunEngine<E>(run, [] { return std::make_unique<E>(); }, mode);
+        return RunEngine<E>(run, [] { return std::make_unique<E>(); });
     }
     if (base == "paper")
     {
@@ -525,8 +504,7 @@ int RunPeer(const PeerRun& run)
         if (levels < quadphase::bench::PaperQuadtreeBroadPhase::kMinLevels ||
             levels > quadphase::bench::PaperQuadtreeBroadPhase::kMaxLevels)
         {
-            std::fprintf(stderr, "qp-replay: --levels must be auto or 1..9\n");
-            return 2;
+            Die(2, "qp-replay: --levels must be auto or 1..9\n");
         }
         if (run.args.Get("check", "first") != "none")
         {
@@ -535,8 +513,7 @@ int RunPeer(const PeerRun& run)
             std::printf("check paper: %lld exact pairs; missed %lld, duplicates %lld, extra %lld\n",
                         static_cast<long long>(checked.exact), static_cast<long long>(checked.missed),
                         static_cast<long long>(checked.duplicates), static_cast<long long>(checked.extra));
-            JsonLine j;
-            run.base(j, "paper_check");
+            JsonLine j = run.base("paper_check");
             j.Int("exact_pairs", checked.exact).Int("missed", checked.missed).Int("duplicates", checked.duplicates)
                 .Int("extra", checked.extra).Int("levels", levels);
             AppendLine(run.args.Get("json"), j.Text());
@@ -545,7 +522,7 @@ int RunPeer(const PeerRun& run)
         return RunEngine<E>(run, [&] {
             return std::make_unique<E>(levels, g.bounds, threads, quadphase::Schedule::Static,
                                        quadphase::bench::PaperPairReport::Buffered);
-        }, "none");
+        }, false);
     }
     if (base == "oracle")
     {
@@ -558,7 +535,7 @@ int RunPeer(const PeerRun& run)
         Replay(loaded, *prep);
         prep.reset();
         using E = ProtocolEngine<OracleIndex>;
-        return RunEngine<E>(run, [&] { return std::make_unique<E>(pairs, perQuery); }, "protocol");
+        return RunEngine<E>(run, [&] { return std::make_unique<E>(pairs, perQuery); });
     }
 #if QP_HAVE_CHIPMUNK
     if (base == "cp-hash" || base == "cp-tree")
@@ -569,10 +546,10 @@ int RunPeer(const PeerRun& run)
         if (native)
         {
             using E = NativeEngine<ChipmunkIndex>;
-            return RunEngine<E>(run, [&] { return std::make_unique<E>(multiplier, hash, cell, cells); }, mode);
+            return RunEngine<E>(run, [&] { return std::make_unique<E>(multiplier, hash, cell, cells); });
         }
         using E = ProtocolEngine<ChipmunkIndex>;
-        return RunEngine<E>(run, [&] { return std::make_unique<E>(hash, cell, cells); }, mode);
+        return RunEngine<E>(run, [&] { return std::make_unique<E>(hash, cell, cells); });
     }
 #endif
 #if QP_HAVE_BULLET
@@ -587,20 +564,18 @@ int RunPeer(const PeerRun& run)
         if (native)
         {
             using E = NativeEngine<BulletIndex>;
-            return RunEngine<E>(run, [&] { return std::make_unique<E>(multiplier, true, sap, world, maxProxies); }, mode);
+            return RunEngine<E>(run, [&] { return std::make_unique<E>(multiplier, true, sap, world, maxProxies); });
         }
         if (sap)
         {
-            std::fprintf(stderr, "qp-replay: bt-sap runs in native mode only (its aabbTest is a linear scan)\n");
-            return 2;
+            Die(2, "qp-replay: bt-sap runs in native mode only (its aabbTest is a linear scan)\n");
         }
         using E = ProtocolEngine<BulletIndex>;
-        return RunEngine<E>(run, [&] { return std::make_unique<E>(false, false, world, maxProxies); }, mode);
+        return RunEngine<E>(run, [&] { return std::make_unique<E>(false, false, world, maxProxies); });
     }
 #endif
-    std::fprintf(stderr, "qp-replay: engine '%s' is unknown or not built here (Chipmunk %s, Bullet %s)\n", e.c_str(),
-                 QP_HAVE_CHIPMUNK ? "found" : "not found", QP_HAVE_BULLET ? "found" : "not found");
-    return 2;
+    Die(2, "qp-replay: engine '%s' is unknown or not built here (Chipmunk %s, Bullet %s)\n", e.c_str(),
+        QP_HAVE_CHIPMUNK ? "found" : "not found", QP_HAVE_BULLET ? "found" : "not found");
 }
 
 } // namespace qpbench

@@ -14,11 +14,11 @@ struct PeerRun
     const Args& args;          // --check, --repeats, --json, --hashes-out, --compare-hashes, --levels, --threads, ...
     const LoadedTrace& loaded;
     std::string engine;        // its --engine name
-    std::function<void(JsonLine&, const char*)> base; // the JSON line's common fields (kind: "run", "check", ...)
+    std::function<JsonLine(const char*)> base; // a JSON line with the common fields (kind: "run", "check", ...)
 };
 
-/// Checks (untimed) and times `run.engine` on the trace; returns the exit code (3: a pair-set mismatch, 2: an
-/// engine that is unknown or not built here).
+/// Checks (untimed) and times `run.engine` on the trace; returns the exit code (3: a pair-set mismatch). Exits
+/// with 2 on an engine that is unknown or not built here, or refused settings.
 int RunPeer(const PeerRun& run);
 
 } // namespace qpbench

@@ -29,10 +29,9 @@
 // contacts); the time-of-impact phase's broadphase work is in solveTOI. The time inside the broadphase alone
 // is measured by the replay (qp-replay*), on a recorded trace of the same scene.
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
+#include <numeric>
 #include <string>
 #include <vector>
 
@@ -61,12 +60,7 @@ public:
 
 double Mean(const std::vector<double>& v)
 {
-    double s = 0.0;
-    for (double x : v)
-    {
-        s += x;
-    }
-    return v.empty() ? 0.0 : s / double(v.size());
+    return v.empty() ? 0.0 : std::accumulate(v.begin(), v.end(), 0.0) / double(v.size());
 }
 
 int AwakeDynamic(const b2World& world)
@@ -110,21 +104,19 @@ int main(int argc, char** argv)
         {
             std::fprintf(stderr, "qp-step-%s: %s\n", kVariant, p.c_str());
         }
-        std::fprintf(stderr,
-                     "usage: qp-step-%s --scene NAME --size N [--seed S] [--warmup W] [--steps S] [--threads "
-                     "T|default]\n"
-                     "       [--ccd scene|on|off] [--json FILE] [--label TEXT] [--per-step]   (--list: scene names and "
-                     "size ranges)\n"
-                     "scenes: %s\n",
-                     kVariant, scenes::SceneNameList().c_str());
-        return args.Has("help") ? 0 : 2;
+        Die(args.Has("help") ? 0 : 2,
+            "usage: qp-step-%s --scene NAME --size N [--seed S] [--warmup W] [--steps S]"
+            " [--threads T|default]\n"
+            "       [--ccd scene|on|off] [--json FILE] [--label TEXT] [--per-step]"
+            "   (--list: scene names and size ranges)\n"
+            "scenes: %s\n",
+            kVariant, scenes::SceneNameList().c_str());
     }
     const auto sceneId = scenes::ParseSceneName(args.Get("scene"));
     if (!sceneId)
     {
-        std::fprintf(stderr, "qp-step-%s: unknown scene '%s' (%s)\n", kVariant, args.Get("scene").c_str(),
-                     scenes::SceneNameList().c_str());
-        return 2;
+        Die(2, "qp-step-%s: unknown scene '%s' (%s)\n", kVariant, args.Get("scene").c_str(),
+            scenes::SceneNameList().c_str());
     }
     const int size = int(args.GetInt("size", 0));
     const uint32_t seed = uint32_t(args.GetInt("seed", 1));
@@ -132,8 +124,7 @@ int main(int argc, char** argv)
     const int steps = int(args.GetInt("steps", 60));
     if (warmup < 0 || steps <= 0)
     {
-        std::fprintf(stderr, "qp-step-%s: --warmup must be >= 0 and --steps > 0\n", kVariant);
-        return 2;
+        Die(2, "qp-step-%s: --warmup must be >= 0 and --steps > 0\n", kVariant);
     }
 
     CountingFilter filter; // outlives the world
@@ -144,8 +135,7 @@ int main(int argc, char** argv)
     }
     catch (const std::exception& e)
     {
-        std::fprintf(stderr, "qp-step-%s: %s\n", kVariant, e.what());
-        return 2;
+        Die(2, "qp-step-%s: %s\n", kVariant, e.what());
     }
     b2World& world = *scene.world;
     world.SetContactFilter(&filter);
@@ -153,10 +143,7 @@ int main(int argc, char** argv)
     {
         world.SetContinuousPhysics(ccd == "on");
     }
-    if (!ApplyThreads(world, threads))
-    {
-        return 2;
-    }
+    ApplyThreads(world, threads);
 
     Phase phase = Falling;
     for (int s = 0; s < warmup; ++s)

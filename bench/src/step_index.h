@@ -78,46 +78,30 @@ struct StepIndex
             std::istringstream fields(line);
             std::string key;
             fields >> key;
+            const auto field = [&](const char* name, auto& value) {
+                if (key == name)
+                {
+                    fields >> value;
+                }
+            };
             if (key == "qp-steps")
             {
                 int version = 0;
                 fields >> version;
                 header = version == 1;
             }
-            else if (key == "scene")
-            {
-                fields >> scene;
-            }
-            else if (key == "size")
-            {
-                fields >> size;
-            }
-            else if (key == "seed")
-            {
-                fields >> seed;
-            }
-            else if (key == "warmup")
-            {
-                fields >> warmup;
-            }
-            else if (key == "steps")
-            {
-                fields >> steps;
-            }
-            else if (key == "bodies")
-            {
-                fields >> bodies;
-            }
-            else if (key == "proxies")
-            {
-                fields >> proxies;
-            }
             else if (key == "boundary")
             {
-                uint64_t b = 0;
-                fields >> b;
-                boundary.push_back(b);
+                boundary.emplace_back();
+                fields >> boundary.back();
             }
+            field("scene", scene);
+            field("size", size);
+            field("seed", seed);
+            field("warmup", warmup);
+            field("steps", steps);
+            field("bodies", bodies);
+            field("proxies", proxies);
         }
         if (!header)
         {

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdarg>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -28,6 +29,16 @@ using Clock = std::chrono::steady_clock;
 inline int64_t NowNs()
 {
     return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch()).count();
+}
+
+/// Prints a printf-style message to stderr and exits with `code`.
+[[noreturn]] __attribute__((format(printf, 2, 3))) inline void Die(int code, const char* format, ...)
+{
+    va_list args;
+    va_start(args, format);
+    std::vfprintf(stderr, format, args);
+    va_end(args);
+    std::exit(code);
 }
 
 // ---------------------------------------------------------------------------------------------------------------
@@ -67,28 +78,11 @@ public:
         }
     }
 
-    bool Has(const std::string& key) const
-    {
-        for (const auto& kv : m_values)
-        {
-            if (kv.first == key)
-            {
-                return true;
-            }
-        }
-        return false;
-    }
+    bool Has(const std::string& key) const { return !GetAll(key).empty(); }
     std::string Get(const std::string& key, const std::string& fallback = "") const
     {
-        std::string v = fallback;
-        for (const auto& kv : m_values)
-        {
-            if (kv.first == key)
-            {
-                v = kv.second; // the last one wins
-            }
-        }
-        return v;
+        const std::vector<std::string> all = GetAll(key);
+        return all.empty() ? fallback : all.back(); // the last one wins
     }
     std::vector<std::string> GetAll(const std::string& key) const
     {
@@ -116,8 +110,7 @@ public:
         const long x = GetInt(key, fallback);
         if (x < lo || x > hi)
         {
-            std::fprintf(stderr, "--%s must be an integer in [%ld, %ld], got %ld\n", key.c_str(), lo, hi, x);
-            std::exit(2);
+            Die(2, "--%s must be an integer in [%ld, %ld], got %ld\n", key.c_str(), lo, hi, x);
         }
         return x;
     }
@@ -149,9 +142,7 @@ private:
         const double x = integer ? double(std::strtol(v.c_str(), &end, 10)) : std::strtod(v.c_str(), &end);
         if (end == v.c_str() || *end != '\0' || !std::isfinite(x))
         {
-            std::fprintf(stderr, "--%s: '%s' is not %s\n", key.c_str(), v.c_str(),
-                         integer ? "an integer" : "a number");
-            std::exit(2);
+            Die(2, "--%s: '%s' is not %s\n", key.c_str(), v.c_str(), integer ? "an integer" : "a number");
         }
         return x;
     }
@@ -169,18 +160,11 @@ inline std::string CpuModel()
     std::string line;
     while (std::getline(in, line))
     {
-        if (line.rfind("model name", 0) == 0)
+        const size_t colon = line.find(':');
+        if (line.rfind("model name", 0) == 0 && colon != std::string::npos)
         {
-            const size_t colon = line.find(':');
-            if (colon != std::string::npos)
-            {
-                size_t start = colon + 1;
-                while (start < line.size() && line[start] == ' ')
-                {
-                    ++start;
-                }
-                return line.substr(start);
-            }
+            const size_t start = line.find_first_not_of(' ', colon + 1);
+            return start == std::string::npos ? "" : line.substr(start);
         }
     }
     return "unknown";
@@ -246,20 +230,19 @@ public:
         m_s += json;
         return *this;
     }
-    template <typename T>
-    JsonLine& Array(const char* key, const std::vector<T>& values)
+    /// An array of numbers, from any range (a vector, a plain array).
+    template <typename Range>
+    JsonLine& Array(const char* key, const Range& values)
     {
         Key(key);
         m_s += '[';
-        for (size_t i = 0; i < values.size(); ++i)
+        const char* separator = "";
+        for (const auto& value : values)
         {
-            if (i != 0)
-            {
-                m_s += ',';
-            }
             char buf[64];
-            std::snprintf(buf, sizeof(buf), "%.9g", double(values[i]));
+            std::snprintf(buf, sizeof(buf), "%s%.9g", separator, double(value));
             m_s += buf;
+            separator = ",";
         }
         m_s += ']';
         return *this;
@@ -290,8 +273,7 @@ inline void AppendLine(const std::string& path, const std::string& line)
     out << line << '\n';
     if (!out)
     {
-        std::fprintf(stderr, "cannot append to %s\n", path.c_str());
-        std::exit(1);
+        Die(1, "cannot append to %s\n", path.c_str());
     }
 }
 
