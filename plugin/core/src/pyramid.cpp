@@ -29,6 +29,7 @@ void Pyramid::Reset(float originX, float originY, float side, int depth)
     m_store.Reset(PyramidCellCount(depth));
     m_stored = 0;
     m_levelProxies.assign(size_t(depth + 1), {});
+    m_occupiedLevels = 0;
     for (Location& loc : m_location)
     {
         loc = Location{};
@@ -71,6 +72,16 @@ void Pyramid::ReserveLevelSlot(int level)
     }
 }
 
+void Pyramid::AppendToLevel(ProxyId id, int level)
+{
+    std::vector<ProxyId>& levelList = m_levelProxies[size_t(level)];
+    Location& loc = m_location[size_t(id)];
+    loc.level = int8_t(level);
+    loc.levelSlot = int32_t(levelList.size());
+    levelList.push_back(id); // within the capacity ReserveLevelSlot made
+    m_occupiedLevels |= uint32_t(1) << level;
+}
+
 void Pyramid::Store(ProxyId id, const Box& box, int level, int32_t cell)
 {
     // Everything that allocates comes first, so std::bad_alloc leaves the pyramid as it was.
@@ -80,10 +91,7 @@ void Pyramid::Store(ProxyId id, const Box& box, int level, int32_t cell)
     loc.cell = cell;
     loc.slot = slot;
     ++m_stored;
-    std::vector<ProxyId>& levelList = m_levelProxies[size_t(level)];
-    loc.level = int8_t(level);
-    loc.levelSlot = int32_t(levelList.size());
-    levelList.push_back(id); // within the capacity reserved above
+    AppendToLevel(id, level);
 }
 
 void Pyramid::Insert(ProxyId id, const Box& box)
@@ -119,6 +127,10 @@ void Pyramid::RemoveFromLevel(ProxyId id)
     m_location[size_t(lastId)].levelSlot = loc.levelSlot;
     levelList[size_t(loc.levelSlot)] = lastId;
     levelList.pop_back();
+    if (levelList.empty())
+    {
+        m_occupiedLevels &= ~(uint32_t(1) << loc.level);
+    }
 }
 
 void Pyramid::Remove(ProxyId id)
@@ -167,12 +179,9 @@ bool Pyramid::UpdatePlaced(ProxyId id, const Box& box, int level, int32_t cell)
         const int32_t slot = m_store.Push(cell, Entry{box, id});
         RemoveFromCell(id);
         RemoveFromLevel(id);
-        std::vector<ProxyId>& levelList = m_levelProxies[size_t(level)];
         loc.cell = cell;
         loc.slot = slot;
-        loc.level = int8_t(level);
-        loc.levelSlot = int32_t(levelList.size());
-        levelList.push_back(id); // within the capacity reserved above
+        AppendToLevel(id, level);
     }
     m_outsideCount += int32_t(outside) - int32_t(loc.outside);
     loc.outside = outside;
@@ -344,6 +353,15 @@ std::string Pyramid::Validate() const
             }
         }
         listed += int32_t(list.size());
+        if (((m_occupiedLevels >> level) & 1u) != (list.empty() ? 0u : 1u))
+        {
+            return "level " + std::to_string(level) + " holds " + std::to_string(list.size()) +
+                   " ids but its occupied bit says otherwise";
+        }
+    }
+    if ((m_occupiedLevels >> (m_depth + 1)) != 0)
+    {
+        return "occupied bits above depth " + std::to_string(m_depth);
     }
     if (stored != m_stored)
     {

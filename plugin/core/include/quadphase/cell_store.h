@@ -45,6 +45,13 @@ public:
     int32_t Size(int32_t cell) const { return int32_t(m_cells[size_t(cell)].size); }
     const Entry* Data(int32_t cell) const { return m_entries.data() + m_cells[size_t(cell)].begin; }
     Entry* Data(int32_t cell) { return m_entries.data() + m_cells[size_t(cell)].begin; }
+    /// Data() and Size() from one read of the cell's record (every cell a query visits goes through here).
+    const Entry* Entries(int32_t cell, int32_t& count) const
+    {
+        const Cell c = m_cells[size_t(cell)];
+        count = int32_t(c.size);
+        return m_entries.data() + c.begin;
+    }
 
     /// Prefetch hints, for a caller about to change cells (they never read or write an entry): the cell's size and
     /// block, then (once those are in cache) the entry at `slot` of its block, which must be below its capacity.
