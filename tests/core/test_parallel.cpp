@@ -84,7 +84,7 @@ TEST_CASE("Queued moves give MoveProxy's pairs, in one order at 1-4 threads", "[
         HarnessSettings s;
         s.seed = 93000u + uint32_t(int(dist));
         s.dist = dist;
-        s.targetProxies = 800; // batches of up to 266 moves: above the (zero) threshold, so applied in parallel
+        s.targetProxies = 800; // batches of up to 266 moves, searched in parallel (threshold 0)
         s.operations = 2500;
         s.validateEvery = 500;
         s.shifts = true;

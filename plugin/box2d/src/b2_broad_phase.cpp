@@ -226,7 +226,8 @@ void b2BroadPhase::MoveProxy(int32 proxyId, const b2AABB& aabb, const b2Vec2& di
     {
         state.trace->Add({quadphase::TraceOp::Move, proxyId, ToBox(aabb), {displacement.x, displacement.y}});
     }
-    // Queued: Box2D moves its bodies one by one on this thread; the fat-AABB tests run in parallel in UpdatePairs.
+    // Queued: Box2D moves its bodies one by one on this thread; the fat-AABB tests run as one batch, in UpdatePairs
+    // or when the queue is full.
     state.core.QueueMove(proxyId, ToBox(aabb), {displacement.x, displacement.y});
     if (state.shadow && state.core.GetPool().IsLive(proxyId))
     {

@@ -97,12 +97,6 @@ private:
 
 const Box kEmptyBox{0.0f, 0.0f, 0.0f, 0.0f};
 
-// Config::parallelThreshold counts pair queries (100-300 ns each): the break-even of a parallel region. A queued
-// move's fat-box test costs about 4 ns, so the same break-even needs that many more of them. Without this factor a
-// 200-body scene opened parallel regions it did not need, and 2 threads were slower than 1
-// (bench/results/parallel.md, (c)).
-constexpr int64_t kApplyPerQuery = 32;
-
 // Percentile p (0..1) of values, reordering them.
 float Percentile(std::vector<float>& values, double p)
 {
@@ -262,13 +256,13 @@ void QuadtreeBroadPhase::QueueMoveSlow(ProxyId id, const Box& tight, Vec2 displa
     if (!m_pool.MarkPending(id))
     {
         // Moved twice before the queue was applied: the second move must see the first one's fat box.
-        ApplyQueued(1);
+        ApplyQueued();
         m_pool.MarkPending(id);
     }
     if (m_queuedCount == m_queued.size())
     {
         // Full. Grows by doubling up to QueueLimit(), so a small world holds a small queue; at the limit, the
-        // queue is applied (in parallel when large) and refilled.
+        // queue is applied and refilled.
         const size_t limit = QueueLimit();
         if (m_queued.size() < limit)
         {
@@ -277,7 +271,7 @@ void QuadtreeBroadPhase::QueueMoveSlow(ProxyId id, const Box& tight, Vec2 displa
         }
         else
         {
-            ApplyQueued(ChunkThreads());
+            ApplyQueued();
         }
     }
     m_queued[m_queuedCount++] = QueuedMove{tight, displacement, id};
@@ -295,7 +289,7 @@ void QuadtreeBroadPhase::ApplyQueuedLocked() const
     {
         // Logically const: the fat boxes a caller observes are already defined by the calls made; applying the
         // queue only brings the stored ones up to date.
-        const_cast<QuadtreeBroadPhase*>(this)->ApplyQueued(1);
+        const_cast<QuadtreeBroadPhase*>(this)->ApplyQueued();
     }
 }
 
@@ -308,7 +302,7 @@ void QuadtreeBroadPhase::ApplyForReadLocked() const
     QuadtreeBroadPhase* self = const_cast<QuadtreeBroadPhase*>(this);
     if (m_hasQueued.load(std::memory_order_relaxed))
     {
-        self->ApplyQueued(1);
+        self->ApplyQueued();
     }
     if (m_hasStale.load(std::memory_order_relaxed))
     {
@@ -316,7 +310,7 @@ void QuadtreeBroadPhase::ApplyForReadLocked() const
     }
 }
 
-void QuadtreeBroadPhase::ApplyQueued(int threads, Clock::time_point* now)
+void QuadtreeBroadPhase::ApplyQueued(Clock::time_point* now)
 {
     const int64_t count = int64_t(m_queuedCount);
     if (count == 0)
@@ -326,123 +320,78 @@ void QuadtreeBroadPhase::ApplyQueued(int threads, Clock::time_point* now)
     // A caller that already read the clock hands its reading over and gets this call's end back: clock reads
     // (about 25 ns each) were a tenth of a step where almost nothing moves (tiles).
     const Clock::time_point start = now != nullptr ? *now : Clock::now();
-    // Each proxy is queued at most once, so the fat-box tests touch disjoint boxes, flags and cell entries and can
-    // run on any thread. Thread t takes a contiguous range of the queue (static schedule) and lists, in order, the
-    // ids it adds to the stale list and to the move buffer; the lists joined in thread order are in queue order
-    // whatever the thread count.
-    const int team = threads > 1 && count >= kApplyPerQuery * int64_t(m_config.parallelThreshold) ? threads : 1;
-    // Everything this call allocates is reserved here, before the parallel region and before any change: an
-    // exception thrown inside an OpenMP region ends the program, and out here std::bad_alloc leaves the queue as
-    // it was. Range c of the queue (of `team`) is applied into list c whatever the number of threads OpenMP gives.
-    if (int(m_threadLists.size()) < team)
-    {
-        m_threadLists.resize(size_t(team));
-    }
-    for (int c = 0; c < team; ++c)
-    {
-        const size_t range = size_t(count * (c + 1) / team - count * c / team);
-        ReserveAtLeast(m_threadLists[size_t(c)].stale, range);
-        ReserveAtLeast(m_threadLists[size_t(c)].buffered, range);
-    }
+    // One thread, the caller's: see docs/design.md ("Grid maintenance"). The moves were queued on this thread, so
+    // the queue, the pending flags and (through the last queries) most fat boxes are in its cache; applying half of
+    // them on a second core made that core fetch them and the next QueueMove calls fetch them back, which cost more
+    // than the work saved (rain 64k, 2 threads: 0.4 ms more per step outside FindPairs).
+    // Everything this call allocates is reserved here, before any change: std::bad_alloc leaves the queue as it was.
+    ReserveAtLeast(m_applyLists.stale, size_t(count));
+    ReserveAtLeast(m_applyLists.buffered, size_t(count));
     ReserveAtLeast(m_stale, m_stale.size() + size_t(count));
     m_pool.ReserveBuffer(size_t(count));
     ++m_mutations;
-    const QueuedMove* queued = m_queued.data();
-    Box* fat = m_pool.MutableFatData();
-    const FatPolicy policy = m_policy;
-    ProxyPool& pool = m_pool;
-    Pyramid& pyramid = m_pyramid;
-    // Two passes over the range:
-    // 1. the fat-box tests, without a branch on the outcome (RefattenNoBranch, and an append that always writes
-    //    and advances by the outcome): whether a body keeps its fat box is close to random, and the mispredictions
+    // Two passes over the queue:
+    // 1. the fat-box tests, without a branch on the outcome (RefattenSimd, and an append that always writes and
+    //    advances by the outcome): whether a body keeps its fat box is close to random, and the mispredictions
     //    cost more than the test;
     // 2. each new fat box is written into the proxy's cell entry when it stays in its cell (most do: a fat box is
     //    smaller than a cell); the others are flagged and listed stale and wait for UpdateStaleEntries. Every
-    //    proxy with a new fat box is flagged and listed for the move buffer. Flags of distinct ids are distinct
-    //    bytes, so threads set them without a lock; only the lists' concatenation is left to one thread.
-    // Captured by value: through references the compiler reloads them after every flag store (char stores may
-    // alias anything).
+    //    proxy with a new fat box is flagged and listed for the move buffer.
+    // Everything the loops read in locals: through members (or the pool) the compiler reloaded the policy, the
+    // arrays and the constants built from them after every flag store, since a char store may alias anything
+    // (tiles: 70 instructions per move, half of them such reloads).
+    const QueuedMove* const moves = m_queued.data();
+    Box* const boxes = m_pool.MutableFatData();
+    uint8_t* const state = m_pool.MutableStateData();
+    const FatPolicy policy = m_policy;
     const BoxMirror mirror = m_mirror;
-    auto applyRange = [queued, fat, policy, mirror, &pool, &pyramid](int64_t begin, int64_t end,
-                                                                       ThreadLists& lists) {
-        std::vector<ProxyId>& buffered = lists.buffered;
-        std::vector<ProxyId>& stale = lists.stale;
-        buffered.resize(size_t(end - begin)); // within the capacity reserved above: no allocation here
-        int32_t* out = buffered.data();
-        size_t n = 0;
-        // Everything the loop reads in locals: through the lambda object (or the pool) the compiler reloaded the
-        // policy, the arrays and the constants built from them after every flag store, since a char store may
-        // alias anything (tiles: 70 instructions per move, half of them such reloads).
-        const QueuedMove* const moves = queued;
-        Box* const boxes = fat;
-        uint8_t* const state = pool.MutableStateData();
-        const FatPolicy localPolicy = policy;
-        for (int64_t i = begin; i < end; ++i)
-        {
-            const QueuedMove& move = moves[i];
-            state[size_t(move.id)] &= ProxyPool::kClearPendingMask;
-            out[n] = int32_t(i);
-            n += RefattenSimd(localPolicy, boxes[move.id], move.tight, move.displacement) ? 1 : 0;
-        }
-        stale.resize(n);
-        int32_t outsideDelta = 0;
-        size_t nb = 0;
-        size_t ns = 0;
-        for (size_t k = 0; k < n; ++k)
-        {
-            const ProxyId id = queued[out[k]].id; // read before out[nb] (nb <= k) is written
-            if (mirror.Enabled())
-            {
-                mirror.Write(id, fat[id]); // each id is queued once: one thread writes its record
-            }
-            if (!pyramid.RewriteInPlace(id, fat[id], outsideDelta) && pool.MarkStale(id))
-            {
-                stale[ns++] = id;
-            }
-            out[nb] = id;
-            nb += pool.MarkBuffered(id) ? 1 : 0;
-        }
-        buffered.resize(nb);
-        stale.resize(ns);
-        return outsideDelta;
-    };
+    std::vector<ProxyId>& buffered = m_applyLists.buffered;
+    std::vector<ProxyId>& stale = m_applyLists.stale;
+    buffered.resize(size_t(count)); // within the capacity reserved above: no allocation here
+    int32_t* const out = buffered.data();
+    size_t n = 0;
+    for (int64_t i = 0; i < count; ++i)
+    {
+        const QueuedMove& move = moves[i];
+        state[size_t(move.id)] &= ProxyPool::kClearPendingMask;
+        out[n] = int32_t(i);
+        n += RefattenSimd(policy, boxes[move.id], move.tight, move.displacement) ? 1 : 0;
+    }
+    stale.resize(n);
     int32_t outsideDelta = 0;
-    if (team > 1)
+    size_t nb = 0;
+    size_t ns = 0;
+    for (size_t k = 0; k < n; ++k)
     {
-#pragma omp parallel num_threads(team) reduction(+ : outsideDelta)
+        const ProxyId id = moves[out[k]].id; // read before out[nb] (nb <= k) is written
+        if (mirror.Enabled())
         {
-            // With fewer threads than asked for, a thread takes several ranges; the ranges still cover the queue.
-            const int n = omp_get_num_threads();
-            for (int c = omp_get_thread_num(); c < team; c += n)
-            {
-                outsideDelta += applyRange(count * c / team, count * (c + 1) / team, m_threadLists[size_t(c)]);
-            }
+            mirror.Write(id, boxes[id]);
         }
+        if (!m_pyramid.RewriteInPlace(id, boxes[id], outsideDelta) && m_pool.MarkStale(id))
+        {
+            stale[ns++] = id;
+        }
+        out[nb] = id;
+        nb += m_pool.MarkBuffered(id) ? 1 : 0;
     }
-    else
-    {
-        outsideDelta = applyRange(0, count, m_threadLists[0]);
-    }
+    buffered.resize(nb);
+    stale.resize(ns);
     m_pyramid.AddOutsideDelta(outsideDelta);
     // In queue order, so the stale list and the move buffer are the ones MoveProxy calls would have built (less
     // the proxies already re-placed in their cell).
-    for (int t = 0; t < team; ++t)
-    {
-        ThreadLists& lists = m_threadLists[size_t(t)];
-        m_stale.insert(m_stale.end(), lists.stale.begin(), lists.stale.end());
-        m_pool.AppendBuffered(lists.buffered);
-        lists.stale.clear();
-        lists.buffered.clear();
-    }
+    m_stale.insert(m_stale.end(), stale.begin(), stale.end());
+    m_pool.AppendBuffered(buffered);
+    stale.clear();
+    buffered.clear();
     m_queuedCount = 0;
     m_hasQueued.store(false, std::memory_order_release);
     if (m_queued.size() > 2 * QueueLimit())
     {
-        // The world shrank: so does the queue (and the per-thread lists sized from it).
+        // The world shrank: so does the queue (and the lists sized from it).
         std::vector<QueuedMove>(QueueLimit()).swap(m_queued);
         UpdateFastRoom();
-        m_threadLists.clear();
-        m_threadLists.shrink_to_fit();
+        m_applyLists = ApplyLists{};
     }
     NoteStale();
     const Clock::time_point end = Clock::now();
@@ -521,7 +470,7 @@ void QuadtreeBroadPhase::FindPairs(std::vector<Pair>& out)
         }
     }
     Clock::time_point now = start;
-    ApplyQueued(threads, &now);
+    ApplyQueued(&now);
     // Entries first, then the re-tune test: the test reads the outside count, which is complete only once every
     // entry is up to date (ApplyQueued already updates the entries that stay in their cell). Queued and immediate
     // moves then re-tune at the same call. A re-tune rebuilds from the fat boxes, so the update work is wasted
@@ -1258,11 +1207,7 @@ Stats QuadtreeBroadPhase::GetStats() const
                     int64_t((m_work.capacity() + m_stale.capacity()) * sizeof(ProxyId)) +
                     int64_t(m_queued.capacity() * sizeof(QueuedMove)) +
                     int64_t(m_blockPairs.capacity() * sizeof(std::vector<Pair>)) +
-                    int64_t(m_threadLists.capacity() * sizeof(ThreadLists));
-    for (const ThreadLists& lists : m_threadLists)
-    {
-        s.memoryBytes += int64_t((lists.stale.capacity() + lists.buffered.capacity()) * sizeof(ProxyId));
-    }
+                    int64_t((m_applyLists.stale.capacity() + m_applyLists.buffered.capacity()) * sizeof(ProxyId));
     for (const std::vector<Pair>& pairs : m_blockPairs)
     {
         s.memoryBytes += int64_t(pairs.capacity() * sizeof(Pair));

@@ -34,7 +34,7 @@ struct Config
     /// Measured on this machine: 2-3 perform alike, 1.5 is worse.
     float cellToProxyRatio = 2.0f;
 
-    /// Threads for pair generation and grid maintenance. 0: up to OpenMP's own setting (OMP_NUM_THREADS, else the
+    /// Threads for pair generation. 0: up to OpenMP's own setting (OMP_NUM_THREADS, else the
     /// core count), but serial while serial calls are measured faster (a machine whose cores are busy with other
     /// work makes every parallel region wait; see QuadtreeBroadPhase::FindPairs). N > 0: exactly N, always.
     /// The pairs and their order do not depend on it.
@@ -49,7 +49,6 @@ struct Config
 
     /// FindPairs with fewer buffered proxies than this runs serially, with no parallel region at all: a parallel
     /// region costs a few microseconds, more than the queries of a small scene or of a time-of-impact update.
-    /// Queued moves, cheaper per proxy, are applied in parallel from 32x this many.
     /// Chosen from bench/ measurements; see docs/design.md, "Parallel pair generation".
     int parallelThreshold = 128;
 };

@@ -73,12 +73,11 @@ public:
     void AddOutsideDelta(int32_t delta) { m_outsideCount += delta; }
 
     /// Update for each of the (distinct, stored) `ids`, with box `boxes[id]`, in `ids` order; then compacts the
-    /// cell store when it has grown wasteful. Returns how many changed cell. One thread: on this 2-core machine a
+    /// cell store when it has grown wasteful. Returns how many changed cell. One thread: on a 2-core machine a
     /// parallel version (place over ids, then leave and join cells, each cell owned by one thread) ran at
     /// 0.62-0.93x this loop's speed from 2k to 32k cell changes, because each id's location and cells passed
-    /// between the cores' caches from phase to phase (docs/design.md, "Grid maintenance"). The parallel part of
-    /// grid maintenance is the in-cell rewrite (RewriteInPlace), which needs no cross-thread ordering. The loop
-    /// prefetches the data of the ids ahead (docs/design.md): the misses of several changes overlap.
+    /// between the cores' caches from phase to phase (docs/design.md, "Grid maintenance"). The loop prefetches the
+    /// data of the ids ahead (docs/design.md): the misses of several changes overlap.
     int64_t UpdateBatch(const std::vector<ProxyId>& ids, const Box* boxes);
 
     /// Calls visit(const Entry&) for every stored entry that may overlap `query` (a superset of the overlapping

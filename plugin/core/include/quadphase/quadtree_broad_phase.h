@@ -24,7 +24,7 @@ namespace quadphase
 ///
 /// Cost model:
 /// - QueueMove (what the Box2D adapter calls) is O(1) and only records the move; the moves recorded since the
-///   last FindPairs are applied by the next FindPairs, in parallel (see QueueMove).
+///   last FindPairs are applied by the next FindPairs, in one batch (see QueueMove).
 /// - MoveProxy is O(1): the fat-box test; when the box changed, the proxy is listed as stale. Its cell entry is
 ///   brought up to date by the next FindPairs, Query or RayCast, for all stale proxies at once, on one thread
 ///   (Pyramid::UpdateBatch): a query after a mass teleport then costs what it costs after a step, and the work is
@@ -57,13 +57,13 @@ public:
     /// MoveProxy for callers that do not need its answer (Box2D 2.4.1's b2BroadPhase::MoveProxy returns void):
     /// checks the id and the box (bad input is reported here, at the call) and records the move. Its effect, the
     /// same as MoveProxy's (new fat box when the policy says so, move buffer, cell entry), is applied in call order
-    /// by the next FindPairs, in parallel, or before anything that reads a fat box or changes the proxy set
+    /// by the next FindPairs, or before anything that reads a fat box or changes the proxy set
     /// (MoveProxy, DestroyProxy, TouchProxy, GetFatBox, TestOverlap, Query, RayCast, ShiftOrigin, Configure,
-    /// Validate), serially. Why: Box2D moves its bodies one by one on one thread; queuing makes that serial part a
-    /// store, and the fat-box tests run on all threads. A proxy queued twice before the queue is applied makes the
-    /// second call apply the queue first (in order), so the outcome never depends on when it is applied. The queue
-    /// holds at most QueueLimit() moves (an eighth of the proxies, up to kQueueChunk): a full queue is applied (in
-    /// parallel when large) by the next QueueMove.
+    /// Validate). Why: Box2D moves its bodies one by one; queuing makes each call a store, and the fat-box tests run
+    /// in one branch-free batch. A proxy queued twice before the queue is applied makes the second call apply the
+    /// queue first (in order), so the outcome never depends on when it is applied. The queue holds at most
+    /// QueueLimit() moves (an eighth of the proxies, up to kQueueChunk): a full queue is applied by the next
+    /// QueueMove. The queue is applied on the calling thread (see ApplyQueued).
     void QueueMove(ProxyId id, const Box& tight, Vec2 displacement)
     {
         // Inline fast path (Box2D calls this once per moving fixture, on one thread); anything unusual (unknown
@@ -167,14 +167,13 @@ private:
         Vec2 displacement;
         ProxyId id;
     };
-    // 8192 x 28 bytes (229 KB): at most a dozen parallel regions per step for 100k moving proxies (2048 gave 2
-    // threads clearly less speed-up on particles 100k: every region costs a fork, a join and a cold queue), and a
-    // bound on memory that does not grow with the world.
+    // 8192 x 28 bytes (229 KB): a chunk still in the cache of the thread that queued it when it is applied, a
+    // dozen applies per step for 100k moving proxies (each has a fixed cost of a few hundred ns), and a bound on
+    // memory that does not grow with the world.
     static constexpr size_t kQueueChunk = 8192;
     // The queue's capacity: an eighth of the live proxies, as a power of two from 64 to kQueueChunk. A queue sized
-    // to every moving proxy cost 28 bytes per proxy (particles 2000: a sixth of the broadphase's memory); below
-    // kApplyPerQuery x parallelThreshold moves a chunk is applied serially anyway, so smaller chunks cost only
-    // their fixed overhead (a few hundred ns each).
+    // to every moving proxy cost 28 bytes per proxy (particles 2000: a sixth of the broadphase's memory), and
+    // smaller chunks cost only their fixed overhead (a few hundred ns each).
     size_t QueueLimit() const
     {
         size_t limit = 64;
@@ -229,13 +228,11 @@ private:
     void NoteStale() { m_hasStale.store(!m_stale.empty(), std::memory_order_release); }
     void CheckBox(const Box& b, const char* call, ProxyId id);
     void FindPairsOfWork(std::vector<Pair>& out, int threads);
-    // Threads for applying a full queue: those of FindPairs, unless FindPairs currently runs serially by choice.
-    int ChunkThreads() const { return m_config.threads == 0 && !m_choice.Parallel() ? 1 : Threads(); }
     void QueueMoveSlow(ProxyId id, const Box& tight, Vec2 displacement);
-    // Applies the queue: fat-box tests on `threads` threads, then (serially, in queue order) the stale list and the
-    // move buffer. Requires exclusive access.
+    // Applies the queue, in queue order, on the calling thread: fat-box tests, in-cell rewrites, then the stale list
+    // and the move buffer. Requires exclusive access.
     // `now`, when given, is the caller's last clock reading (taken as this call's start) and receives its end.
-    void ApplyQueued(int threads, std::chrono::steady_clock::time_point* now = nullptr);
+    void ApplyQueued(std::chrono::steady_clock::time_point* now = nullptr);
     void WriteMirrorOfAll();
     void Retune();
     void Rebuild(float originX, float originY, float side, int depth);
@@ -260,13 +257,14 @@ private:
     // out-of-line path). One comparison on the hot path instead of three.
     size_t m_fastRoom = 0;
     void UpdateFastRoom() { m_fastRoom = m_timing ? 0 : m_queued.size(); }
-    // ApplyQueued, per thread: the ids its range adds to the stale list and to the move buffer, in queue order.
-    struct ThreadLists
+    // ApplyQueued's scratch: the ids it adds to the stale list and to the move buffer, in queue order (written
+    // without a branch on whether an id is added, then appended).
+    struct ApplyLists
     {
         std::vector<ProxyId> stale;
         std::vector<ProxyId> buffered;
     };
-    std::vector<ThreadLists> m_threadLists;
+    ApplyLists m_applyLists;
     mutable std::atomic<bool> m_hasQueued{false}; // m_queuedCount > 0, readable without the lock
     mutable std::atomic<bool> m_hasStale{false};  // !m_stale.empty(), readable without the lock
     mutable std::mutex m_queueMutex; // serialises const calls that apply the queue
