@@ -395,7 +395,9 @@ void QuadtreeBroadPhase::ApplyQueued(Clock::time_point* now)
     }
     NoteStale();
     const Clock::time_point end = Clock::now();
-    m_counters.updateSeconds += std::chrono::duration<double>(end - start).count();
+    const double seconds = std::chrono::duration<double>(end - start).count();
+    m_counters.updateSeconds += seconds;
+    m_aftermathSeconds += seconds;
     if (now != nullptr)
     {
         *now = end;
@@ -458,15 +460,16 @@ void QuadtreeBroadPhase::FindPairs(std::vector<Pair>& out)
     // and on quiet scenes, are this small).
     int threads = work >= int64_t(m_config.parallelThreshold) ? Threads() : 1;
     const bool eligible = m_config.threads == 0 && threads > 1 && work >= int64_t(m_config.parallelThreshold);
+    // The queued moves applied since the last eligible call: the aftermath of that call's mode (see ThreadChoice).
+    const double aftermath = m_aftermathSeconds;
     if (eligible)
     {
         // Which mode to run: the faster one, except on a probe of the other (see ThreadChoice).
-        const bool probe = ++m_choice.calls % m_choice.probeEvery == 0;
-        const bool parallel = m_choice.Parallel() != probe;
+        const bool parallel = m_choice.Next();
         if (!parallel)
         {
             threads = 1;
-            m_counters.serialByChoice += probe ? 0 : 1;
+            m_counters.serialByChoice += m_choice.Parallel() ? 0 : 1;
         }
     }
     Clock::time_point now = start;
@@ -506,17 +509,8 @@ void QuadtreeBroadPhase::FindPairs(std::vector<Pair>& out)
     m_counters.pairSeconds += seconds;
     if (eligible)
     {
-        const double ns = 1e9 * seconds / double(work);
-        const bool wasParallel = threads > 1;
-        const bool wasProbe = wasParallel != m_choice.Parallel();
-        double& average = wasParallel ? m_choice.parallelNs : m_choice.serialNs;
-        average = average == 0.0 ? ns : 0.75 * average + 0.25 * ns;
-        if (wasProbe)
-        {
-            // A probe that did not change the choice was wasted: probe less often.
-            const bool changed = wasParallel == m_choice.Parallel();
-            m_choice.probeEvery = changed ? 32 : std::min<int64_t>(1024, 2 * m_choice.probeEvery);
-        }
+        m_choice.Record(threads > 1, aftermath + seconds, double(work));
+        m_aftermathSeconds = 0.0; // this call's own apply is in `seconds`
     }
 }
 

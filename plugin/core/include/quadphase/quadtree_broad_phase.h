@@ -16,6 +16,7 @@
 #include "quadphase/proxy_pool.h"
 #include "quadphase/pyramid.h"
 #include "quadphase/stats.h"
+#include "quadphase/thread_choice.h"
 
 namespace quadphase
 {
@@ -184,28 +185,6 @@ private:
         return limit;
     }
 
-    // Config::threads == 0: parallel or serial, whichever was measured faster per unit of work (queued moves,
-    // stale entries and buffered proxies) on recent calls. The other mode is re-measured every `probeEvery`
-    // eligible calls; a probe that loses doubles that interval (up to 1024), a win resets it.
-    // Serial is measured first, then parallel, and parallel must be faster by a margin: a region whose second
-    // thread waits for a core (another program holds it) costs milliseconds where serial costs tens of
-    // microseconds, and starting with 32 parallel calls before the first serial measurement made rain 2000 at 2
-    // threads 20x slower than at 1 on a machine whose other core was busy.
-    struct ThreadChoice
-    {
-        double serialNs = 0.0;   // moving averages of ns per unit of work; 0 = not measured yet
-        double parallelNs = 0.0;
-        int64_t calls = 0;       // eligible calls so far
-        int64_t probeEvery = 32;
-        bool Parallel() const
-        {
-            if (serialNs == 0.0)
-            {
-                return false;
-            }
-            return parallelNs == 0.0 || parallelNs < 0.85 * serialNs;
-        }
-    };
     // Applies the queue when it is not empty; the common empty case is one atomic load.
     void ApplyQueuedIfAny() const
     {
@@ -273,7 +252,10 @@ private:
     std::vector<std::vector<Pair>> m_blockPairs; // parallel FindPairs: the pairs of each block of m_work
     int32_t m_tunedCount = 0;    // live proxies at the last automatic tuning
     int32_t m_tunedOutside = 0;  // proxies outside the bounds right after the last automatic tuning
-    ThreadChoice m_choice;
+    ThreadChoice m_choice; // Config::threads == 0: serial or parallel FindPairs calls
+    // Seconds spent applying queued moves since the last FindPairs that consulted m_choice: the part of a mode's
+    // window (see ThreadChoice) that lies outside the calls.
+    double m_aftermathSeconds = 0.0;
     // Counts calls that changed proxies or entries (create, destroy, move, queue applied, rebuild). Query and
     // RayCast compare it before and after their callbacks: unchanged means every collected candidate is still
     // what it was, so the re-entrancy checks cost nothing in the common case.
