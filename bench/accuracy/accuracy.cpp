@@ -18,7 +18,6 @@
 #include <vector>
 
 #include "contact_check.h"
-#include "qp_accuracy_build_info.h"
 #include "quadphase_scenes/scenes.h"
 #include "tool_common.h"
 
