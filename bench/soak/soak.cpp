@@ -64,9 +64,8 @@ int main(int argc, char** argv)
     namespace scenes = quadphase::scenes;
     const qpbench::Args args(argc, argv, "qp-soak", {"steps", "size", "seed", "interval", "max-growth"},
                              {"validate"});
-    args.Check(
-        true,
-        "usage: qp-soak [--steps N] [--size S] [--seed K] [--interval I] [--validate] [--max-growth PCT]\n");
+    args.Check(true, "usage: qp-soak [--steps N] [--size S] [--seed K] [--interval I] [--validate]"
+                     " [--max-growth PCT]\n");
     const long steps = args.GetIntIn("steps", 100000, 1, 100000000);
     const int size = int(args.GetIntIn("size", 2000, 20, 1000000));
     const uint32_t seed = uint32_t(args.GetIntIn("seed", 1, 0, 2147483647));

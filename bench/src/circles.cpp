@@ -33,7 +33,6 @@
 #include <unordered_set>
 #include <vector>
 
-#include "b2_box.h"
 #include "box2d/b2_broad_phase.h"
 #include "paper_quadtree.h"
 #include "quadphase/quadtree_broad_phase.h"

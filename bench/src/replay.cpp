@@ -24,13 +24,11 @@
 
 #include <omp.h>
 
+#include "core_engine.h"
 #include "quadphase/brute_force_broad_phase.h"
 #include "quadphase/config.h"
 #include "quadphase/quadtree_broad_phase.h"
-#include "heap_bytes.h"
 #include "replay_common.h"
-#include "replay_peers.h"
-#include "core_engine.h"
 
 namespace
 {
@@ -251,16 +249,16 @@ int main(int argc, char** argv)
                      "max-proxies"},
                     {"brute", "omp-overhead", "force-brute", "per-call", "print-config", "triad"});
     args.Check(args.Has("trace") || args.Has("omp-overhead") || args.Has("print-config") || args.Has("triad"),
-               "usage: qp-replay --trace FILE [--steps-file FILE] [--engine NAME] [--repeats R] [--check "
-               "none|first|all]\n"
+               "usage: qp-replay --trace FILE [--steps-file FILE] [--engine NAME] [--repeats R]"
+               " [--check none|first|all]\n"
                "                 [--hashes-out FILE] [--compare-hashes FILE] [--json FILE] [--label TEXT]\n"
-               "  quadtree (default): [--threads N] [--schedule static|dynamic|guided|auto] [--chunk C] "
-               "[--depth D|auto]\n"
+               "  quadtree (default): [--threads N] [--schedule static|dynamic|guided|auto] [--chunk C]"
+               " [--depth D|auto]\n"
                "                 [--threshold T] [--config k=v,k=v]... [--brute] [--per-call]\n"
-               "  null: the replay loop alone; stock, brute, paper ([--levels L|auto] [--threads N]), "
-               "oracle, cp-hash-xK,\n"
-               "  cp-tree, bt-dbvt, and -native[-mM] modes of cp-hash-xK, cp-tree, bt-dbvt, bt-sap "
-               "(replay_peers.cpp)\n"
+               "  null: the replay loop alone; stock, brute, paper ([--levels L|auto] [--threads N]),"
+               " oracle, cp-hash-xK,\n"
+               "  cp-tree, bt-dbvt, and -native[-mM] modes of cp-hash-xK, cp-tree, bt-dbvt, bt-sap"
+               " (replay_peers.cpp)\n"
                "  qp-replay --omp-overhead | --triad | --print-config\n"
                "available here: stock brute paper oracle%s%s\n",
                QP_HAVE_CHIPMUNK ? " cp-hash cp-tree" : "", QP_HAVE_BULLET ? " bt-dbvt bt-sap" : "");

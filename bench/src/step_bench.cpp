@@ -97,13 +97,13 @@ int main(int argc, char** argv)
     }
     const std::string ccd = args.Get("ccd", "scene");
     const std::string threads = args.Get("threads", "1");
-    args.Check(
-        args.Has("scene") && args.Has("size") && (ccd == "scene" || ccd == "on" || ccd == "off"),
-        "usage: qp-step-%s --scene NAME --size N [--seed S] [--warmup W] [--steps S] [--threads T|default]\n"
-        "       [--ccd scene|on|off] [--json FILE] [--label TEXT] [--per-step]   (--list: scene names and "
-        "size "
-        "ranges)\nscenes: %s\n",
-        kVariant, scenes::SceneNameList().c_str());
+    args.Check(args.Has("scene") && args.Has("size") && (ccd == "scene" || ccd == "on" || ccd == "off"),
+               "usage: qp-step-%s --scene NAME --size N [--seed S] [--warmup W] [--steps S]"
+               " [--threads T|default]\n"
+               "       [--ccd scene|on|off] [--json FILE] [--label TEXT] [--per-step]"
+               "   (--list: scene names and size ranges)\n"
+               "scenes: %s\n",
+               kVariant, scenes::SceneNameList().c_str());
     const auto sceneId = scenes::ParseSceneName(args.Get("scene"));
     if (!sceneId)
     {
