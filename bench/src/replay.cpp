@@ -474,7 +474,7 @@ int main(int argc, char** argv)
             const int64_t heap0 = HeapBytes();
             auto engine = std::make_unique<CoreEngine<quadphase::QuadtreeBroadPhase>>(quadphase::FatPolicy{}, c);
             const RunResult result = Replay(loaded, *engine);
-            const int64_t heap = HeapBytes() - heap0; // what the engine holds after the whole trace (heap_bytes.h)
+            const int64_t heap = HeapBytes() - heap0; // what the engine holds after the whole trace (HeapBytes)
             const quadphase::Stats st = engine->Get().GetStats();
             JsonLine j = baseJson("run");
             j.Str("engine", "quadtree");

@@ -577,7 +577,7 @@ inline void AddRun(JsonLine& j, const RunResult& r)
 }
 
 /// The timed runs of every engine but the quadtree (replay_peers.cpp): `repeats` replays, each of a fresh engine
-/// from make(); one JSON line per run (base("run"), the run's heap bytes per proxy as heap_bytes.h measures them,
+/// from make(); one JSON line per run (base("run"), the run's heap bytes per proxy as HeapBytes measures them,
 /// the per-step arrays), a line per run and the median on stdout.
 template <typename Make, typename Base>
 void TimedRuns(const LoadedTrace& loaded, const char* name, int repeats, const std::string& jsonPath, Make make,
