@@ -109,8 +109,8 @@ struct StepIndex
             error = "cannot open " + path;
             return false;
         }
+        int version = 0;
         std::string line;
-        bool header = false;
         boundary.clear();
         while (std::getline(in, line))
         {
@@ -124,17 +124,11 @@ struct StepIndex
                     fields >> value;
                 }
             };
-            if (key == "qp-steps")
+            if (key == "boundary")
             {
-                int version = 0;
-                fields >> version;
-                header = version == 1;
+                fields >> boundary.emplace_back();
             }
-            else if (key == "boundary")
-            {
-                boundary.emplace_back();
-                fields >> boundary.back();
-            }
+            field("qp-steps", version);
             field("scene", scene);
             field("size", size);
             field("seed", seed);
@@ -143,25 +137,13 @@ struct StepIndex
             field("bodies", bodies);
             field("proxies", proxies);
         }
-        if (!header)
-        {
-            error = path + " is not a qp-steps v1 file";
-            return false;
-        }
-        if (warmup < 0 || steps <= 0 || boundary.size() != size_t(warmup) + size_t(steps) + 1)
-        {
-            error = path + ": expected warmup + steps + 1 boundary lines";
-            return false;
-        }
-        for (size_t i = 1; i < boundary.size(); ++i)
-        {
-            if (boundary[i] < boundary[i - 1])
-            {
-                error = path + ": boundaries are not increasing";
-                return false;
-            }
-        }
-        return true;
+        const bool counted =
+            warmup >= 0 && steps > 0 && boundary.size() == size_t(warmup) + size_t(steps) + 1;
+        error = version != 1 ? path + " is not a qp-steps v1 file"
+                : !counted   ? path + ": expected warmup + steps + 1 boundary lines"
+                : !std::is_sorted(boundary.begin(), boundary.end()) ? path + ": boundaries are not increasing"
+                                                                    : "";
+        return error.empty();
     }
 };
 
