@@ -100,6 +100,7 @@ REFERENCE = {"circles_stock": 52000, "circles_brute": 6200, "replay_stock_partic
              "replay_stock_rain64k": 510, "step_bp_stock_particles10k": 3.3, "step_bp_stock_particles50k": 43.9}
 TOOLS = ("qp-record", "qp-replay", "qp-step-stock", "qp-step-quadtree",
          "qp-query-stock", "qp-query-quadtree", "qp-circles")
+TEXT = report.prose(os.path.join(HERE, "prose", "bench.md"))  # the report's prose
 
 
 def parse_args():
@@ -614,14 +615,9 @@ def met(ok):
 def markdown(info, data, levels, plots):
     d = data[levels[0]]
     by, rp = keyed(d["step"]), keyed(d["replay"])
-    L = ["# quadphase benchmark results", "",
-         f"Profile **{info['profile']}** (`bench/run.sh{' --full' if info['profile'] == 'full' else ''}"
-         f"{' --opt both' if len(levels) > 1 else ''}`), {info['rounds']} rounds, medians over rounds; produced by "
-         f"`bench/bench.py` in {info['timing'].get('total_s', 0) / 60:.1f} min. What each number means: "
-         "[bench/README.md](README.md#benchmarks-of-issues-4-16-and-19-benchrunsh). Raw data: "
-         "[step.csv](results/step.csv), [phases.csv](results/phases.csv), [replay.csv](results/replay.csv), "
-         "[replay_phases.csv](results/replay_phases.csv), [peers.csv](results/peers.csv), "
-         "[queries.csv](results/queries.csv), [circles.csv](results/circles.csv), [bench.json](results/bench.json)."]
+    command = (" --full" if info["profile"] == "full" else "") + (" --opt both" if len(levels) > 1 else "")
+    L = ["# quadphase benchmark results", "", TEXT["header"].format(
+        profile=info["profile"], command=command, rounds=info["rounds"], minutes=info["timing"].get("total_s", 0) / 60)]
     if info.get("scale", 1.0) != 1.0:
         L += ["", f"**Scaled run (--scale {info['scale']}): sizes are not the profile's; for development only.**"]
     L += [""] + report.machine_section(info)[:-1]
@@ -633,15 +629,7 @@ def markdown(info, data, levels, plots):
     L += [""] + headline(d, by, rp, levels[0]) + step_section(d, by, plots) + phase_section(data, levels)
     L += replay_section(d, rp, plots) + levels_section(data, levels) + query_section(d) + circles_section(d, plots)
     timing = info.get("timing", {})
-    L += ["## Notes", "",
-          "- In-engine, *b2Profile::broadphase* is what Box2D itself times: synchronising the proxies (MoveProxy) "
-          "and FindNewContacts (UpdatePairs plus its callbacks creating contacts). The time inside the broadphase "
-          "alone (MoveProxy + UpdatePairs + TestOverlap) is the replay's figure: the same calls, replayed.",
-          "- Chipmunk2D and Bullet run in two modes (bench/README.md): Box2D's protocol (the trace's fat boxes, a "
-          "query per buffered proxy: the new pairs of the moved proxies, which their own loops cannot express) and "
-          "native (their own per-step loop and pair cache: every overlapping pair, each step).",
-          "- The paper's design is approximate by construction (bench/baselines/README.md): its missed pairs "
-          "and duplicates are counted against the exact pair sets.",
+    L += ["## Notes", "", TEXT["notes"],
           "- Run time: " + ", ".join(f"{k} {v:.0f} s" for k, v in timing.items() if k != "total_s") + ".", ""]
     return L
 
@@ -759,12 +747,9 @@ def step_section(d, by, plots):
     if not d["step"]:
         return []
     ccd = {r.get("continuous") for r in d["step"]}
-    L = section("## 1. In-engine step benchmark",
-                "Medians over rounds of each run's median step (ms), at Box2D's defaults: continuous collision "
-                f"{'on' if ccd == {1} else 'off' if ccd == {0} else 'not recorded or mixed'}, the quadtree's "
-                "default Config with OMP_NUM_THREADS=1 (1t) and 2 (2t). *bp share* = stock's b2Profile::broadphase ÷ "
-                "step: where it is small, no broadphase can change the step much. Contacts and new pairs must match "
-                "between the builds (same simulation).", plots, "step", "stock / quadtree time per scene")
+    L = section("## 1. In-engine step benchmark", TEXT["step"].format(
+        ccd="on" if ccd == {1} else "off" if ccd == {0} else "not recorded or mixed"), plots, "step",
+        "stock / quadtree time per scene")
     rows, small = [], []
     for s, n in sorted({(r["scene"], r["size"]) for r in d["step"]}):
         a, q1, q2 = by.get((s, n, "stock")), by.get((s, n, "quadtree-1t")) or {}, by.get((s, n, "quadtree-2t")) or {}
@@ -787,8 +772,7 @@ def step_section(d, by, plots):
                 "step × 1t / 2t", "bp × 1t / 2t", "contacts (stock / qt)", "new pairs/step", "peak RSS MB stock / qt",
                 "qt B/proxy"], rows) + [""]
     if small:
-        L += ["Where the broadphase is under 10% of stock's step, the whole-step ratio can only move by that much, "
-              "and the differences are within the noise of this shared machine: " + ", ".join(small) + ".", ""]
+        L += [TEXT["small_share"].format(cases=", ".join(small)), ""]
     return L
 
 
@@ -814,15 +798,7 @@ def phase_lows(rows, fair=False):
 def phase_section(data, levels):
     if not any(data[lv]["phases"] for lv in levels):
         return []
-    L = section("## 1b. In-engine, by phase: falling, piling, resting",
-                "The scene from its first step (no warm-up), continuous collision on (Box2D's default; column CCD), "
-                "the quadtree at its default Config with OMP_NUM_THREADS=1 and 2. Each step is put in a phase from the "
-                "world after it (qp-step, untimed): with D dynamic bodies, *falling* while fewer than 1% of them touch "
-                "a static body (in rain: until the bottom row of the spawn grid lands), *resting* once fewer than 5% "
-                "are awake and faster than 0.5 m/s, *piling* in between; a phase never goes back. Medians over the "
-                "phase's steps, then over the rounds; ratios = stock ÷ quadtree (> 1: quadphase faster). The builds "
-                "create new contacts in different orders (both valid), so the simulations drift apart and each "
-                "build's phases are its own steps (the *steps* column).")
+    L = section("## 1b. In-engine, by phase: falling, piling, resting", TEXT["phases"])
     rows = []
     for lv in levels:
         by = keyed(data[lv]["phases"], ("scene", "size", "steps", "engine"))
@@ -837,11 +813,7 @@ def phase_section(data, levels):
                                " / ".join(fmt(ratio(a[step], q.get(step))) for q in qs)])
     L += table(["opt", "scene", "CCD", "phase", "steps: stock / 1t / 2t", "stock bp ms", "1t bp ms", "2t bp ms",
                 "bp × 1t / 2t", "stock step ms", "step × 1t / 2t"], rows) + [""]
-    L += ["**The same steps in both builds.** The table above compares each build's own phases, which drift apart "
-          "(a pile still settling in one build against a sleeping one in the other). Below, a step's phase is the "
-          "stock run's, and *resting* counts only the steps where both builds rest; medians over those steps of "
-          "the per-step medians over rounds. *µs per awake body*: each build's broadphase time over its own "
-          "phase's steps ÷ the awake dynamic bodies summed over them (a normalisation by the moving proxies).", ""]
+    L += [TEXT["same_steps"], ""]
     rows = [[lv, f"{r['scene']} {r['size']}", threads(r["engine"]), p, r.get(f"fair_{p}_steps"),
              fmt(r.get(f"fair_{p}_stock_bp_ms"), 3), fmt(r.get(f"fair_{p}_bp_ms"), 3),
              fmt(ratio(r.get(f"fair_{p}_stock_bp_ms"), r.get(f"fair_{p}_bp_ms"))),
@@ -855,12 +827,8 @@ def phase_section(data, levels):
 def replay_section(d, rp, plots):
     if not d["replay"]:
         return []
-    L = section("## 2. Broadphase replay (identical trace)",
-                "Broadphase work per step (every recorded call of the step: Create/Destroy/Move/Touch and UpdatePairs "
-                "with its pair output), medians over rounds. *exact*: the sorted pair set of every UpdatePairs call "
-                "(warm-up included) hashed and compared with stock's. *B/proxy*: heap held by the engine after the "
-                "trace ÷ live proxies. Chipmunk2D and Bullet run under Box2D's protocol (the same fat boxes and move "
-                "buffer, one query per buffered proxy).", plots, "replay", "time against N, every broadphase")
+    L = section("## 2. Broadphase replay (identical trace)", TEXT["replay"], plots, "replay",
+                "time against N, every broadphase")
     rows = []
     for s, n in sorted({(r["scene"], r["size"]) for r in d["replay"]}):
         for e in (e for e in REPLAY_ENGINES if (s, n, e) in rp):
@@ -876,25 +844,15 @@ def replay_section(d, rp, plots):
     L += table(["trace", "engine", "mode", "ms/step", "ns/proxy/step", "× stock", "pairs/step", "B/proxy", "exact"],
                rows)
     bad = [f"{r['scene']} {r['size']} {r['engine']}" for r in d["replay"] if r.get("exact") == "MISMATCH"]
-    L += ["", "**PAIR SET MISMATCHES: " + ", ".join(bad) + "**" if bad else
-          "Every exact engine gave its reference pair set on every UpdatePairs call of every trace (protocol mode: "
-          "stock's; native mode: all overlapping fat-box pairs).", ""]
-    L += ["### 2a. Fastest tuned peer and the floors", "",
-          "*Fastest exact peer*: the fastest of every Chipmunk2D and Bullet configuration above that was exact, in "
-          "either mode; *× peer* = its time ÷ quadphase's at 1 thread. *Oracle*: Box2D's protocol with every "
-          "query's pairs known in advance (the fat-box test of each move, then the precomputed pairs written): the "
-          "cost of the output alone. *Memory floor*: the bytes the queries must touch at least (each query's fat "
-          "box, the cell entries quadphase actually reads, the pairs written; counted on the checking run) ÷ the "
-          "bandwidth of a one-thread STREAM triad run in every round.", ""]
+    L += ["", "**PAIR SET MISMATCHES: " + ", ".join(bad) + "**" if bad else TEXT["replay_exact"], ""]
+    L += ["### 2a. Fastest tuned peer and the floors", "", TEXT["peers"], ""]
     L += table(["trace", "quadphase 1t ms", "fastest exact peer", "peer ms", "× peer", "oracle ms", "÷ oracle",
                 "floor MB/step", "memory floor ms", "÷ memory floor", "triad GB/s"], [
         [f"{r['scene']} {r['size']}", fmt(r["qt1_ms"], 3), ENGINE_LABEL.get(r["peer"], "–"), fmt(r["peer_ms"], 3),
          fmt(r["peer_x"]), fmt(r["oracle_ms"], 3), fmt(r["qt_over_oracle"]), fmt(r["floor_mb_per_step"], 2),
          fmt(r["memory_floor_ms"], 4), fmt(r["qt_over_memory"], 0), fmt(r["triad_gb_s"], 1)] for r in d["peers"]])
     if d["replay_phases"]:
-        L += ["", "### 2b. Rain by phase (replay)", "",
-              "Rain replayed from its first step, every step timed; each step's phase is the recording's (the phase "
-              "rule of section 1b); mean ms per step over the phase's steps, median over rounds.", ""]
+        L += ["", "### 2b. Rain by phase (replay)", "", TEXT["replay_phases"], ""]
         L += table(["trace", "phase", "steps", "engine", "ms/step", "× stock"], [
             [f"{r['scene']} {r['size']}", r["phase"], f"{r['first']}–{r['first'] + r['steps'] - 1}",
              ENGINE_LABEL[r["engine"]], fmt(r["ms_per_step"], 3), fmt(r["x_stock"])] for r in d["replay_phases"]])
@@ -904,9 +862,7 @@ def replay_section(d, rp, plots):
 def levels_section(data, levels):
     if len(levels) < 2:
         return []
-    L = section("## 2c. Both optimisation levels",
-                "The replay's headline and the in-engine ratios at every level (each level: a stock and a quadphase "
-                "build from the same source with the same flags). Ratios = stock ÷ quadtree.")
+    L = section("## 2c. Both optimisation levels", TEXT["levels"])
     rows = []
     for lv in levels:
         for part, what, field, unit in (("replay", "replay", "ms_per_step", " ms/step"),
@@ -922,14 +878,7 @@ def query_section(d):
     if not d["queries"]:
         return []
     q = keyed(d["queries"], ("workload", "engine"))
-    L = section("## 3. Queries through b2World (issue 19)",
-                f"`qp-query-stock` and `qp-query-quadtree` (one source, two builds): {d['queries'][0]['bodies']:,} "
-                "sleeping boxes (half sides 0.25–1 m) over a 1 km square, no gravity, stepped once. Each workload is "
-                "timed as a whole (ms for all its queries; median of the tool's repeats, then over the rounds); the "
-                "quadtree at its default Config with OMP_NUM_THREADS=1 and 2. *× stock* = stock ÷ quadtree (> 1: "
-                "quadphase faster). *hits*: fixtures reported per repeat (closest hit: rays that hit; the step: "
-                "contacts after it). Every query's fixture ids are sorted and hashed, closest-hit rays as (fixture, "
-                "fraction); *same hits* compares the hashes with stock's.")
+    L = section("## 3. Queries through b2World (issue 19)", TEXT["queries"].format(bodies=d["queries"][0]["bodies"]))
     rows = []
     for w, what in QUERY_WORKLOADS:
         a, qs = q.get((w, "stock")), [q.get((w, e)) or {} for e in QUADTREES]
@@ -946,13 +895,8 @@ def circles_section(d, plots):
              "quadtree": "quadphase"}
     if not d["circles"]:
         return []
-    L = section("## 4. The paper's protocol: circles under 20 ms per frame",
-                "Largest N whose collision detection (broadphase + circle-circle test of the candidates; for stock and "
-                "quadphase also Box2D's persistent pair list) takes under 20 ms per frame, median of 3 repeats; N "
-                "doubled then bisected. Circles r = 0.5 m at area fraction 0.15 (world grows with N), 1–5 m/s. The "
-                "paper's numbers are from its own machines and world (published Tables 1 and 2; brute force 1,360 on "
-                "its i7-7500U, 2,630 on its Ryzen 7 1700; best quadtree 54,000 / 58,900).",
-                plots, "circles", "circles under 20 ms")
+    L = section("## 4. The paper's protocol: circles under 20 ms per frame", TEXT["circles"], plots, "circles",
+                "circles under 20 ms")
     L += table(["engine", "threads", "depth", "circles (here)", "capped"], [
         [names[r["engine"]], r["threads"], r["depth"] if r["engine"] in ("paper", "quadtree") else "–",
          f"{r['n_max']:,}", "yes: time cap, a lower bound" if r["capped"] else ""] for r in d["circles"]])

@@ -18,7 +18,6 @@
 #include <vector>
 
 #include "contact_check.h"
-#include "qp_accuracy_build_info.h"
 #include "quadphase_scenes/scenes.h"
 #include "tool_common.h"
 
@@ -65,48 +64,36 @@ struct Options
     qpbench::Die(2, "qp-accuracy-%s: %s\n", kBuild, message.c_str());
 }
 
-void PrintHelp()
-{
-    std::printf("qp-accuracy-%s --scene NAME [options]   (one JSON line on stdout)\n"
-                "  --scene NAME         %s\n"
-                "  --size N             scene size (default: the scene's default)\n"
-                "  --seed S             scene seed (default 1)\n"
-                "  --seconds T          simulated seconds (default 10)\n"
-                "  --hz H               steps per simulated second (default 60)\n"
-                "  --vel-iters V        velocity iterations (default 8)\n"
-                "  --pos-iters P        position iterations (default 3)\n"
-                "  --threads T          pair-generation threads, quadphase and paper builds (default 1)\n"
-                "  --depth D            quadphase build: auto | N | auto+K | auto-K (default auto)\n"
-                "  --levels L           paper build: auto | N | auto+K | auto-K (default auto: leaf about 2 "
-                "fat boxes)\n"
-                "  --check-every K      run the error checks after every K-th step (default 1)\n"
-                "  --sample-every S     positions sampling period in simulated seconds (default 0.5)\n"
-                "  --positions-out F    write the dynamic bodies' positions at every sample time to F\n",
-                kBuild, qs::SceneNameList().c_str());
-}
-
 int ParseInt(const std::string& flag, const std::string& text)
 {
-    char* end = nullptr;
-    const long value = std::strtol(text.c_str(), &end, 10);
-    if (end == text.c_str() || *end != '\0' || value < -1000000000L || value > 1000000000L)
+    long value = 0;
+    if (!qpbench::ParseLong(text, value) || value < -1000000000L || value > 1000000000L)
         Fail(flag + ": not an integer: '" + text + "'");
     return static_cast<int>(value);
 }
 
 Options ParseOptions(int argc, char** argv)
 {
-    const qpbench::Args args(argc, argv, {"help"});
-    const std::vector<std::string> problems =
-        args.Problems({"scene", "size", "seed", "seconds", "hz", "vel-iters", "pos-iters", "threads", "depth",
-                       "levels", "check-every", "sample-every", "positions-out", "help"});
-    if (args.Has("help"))
-    {
-        PrintHelp();
-        std::exit(0);
-    }
-    if (!problems.empty())
-        Fail(problems.front() + " (see --help)");
+    const qpbench::Args args(argc, argv, std::string("qp-accuracy-") + kBuild,
+                             {"scene", "size", "seed", "seconds", "hz", "vel-iters", "pos-iters", "threads",
+                              "depth", "levels", "check-every", "sample-every", "positions-out"});
+    args.Check(true,
+               "qp-accuracy-%s --scene NAME [options]   (one JSON line on stdout)\n"
+               "  --scene NAME         %s\n"
+               "  --size N             scene size (default: the scene's default)\n"
+               "  --seed S             scene seed (default 1)\n"
+               "  --seconds T          simulated seconds (default 10)\n"
+               "  --hz H               steps per simulated second (default 60)\n"
+               "  --vel-iters V        velocity iterations (default 8)\n"
+               "  --pos-iters P        position iterations (default 3)\n"
+               "  --threads T          pair-generation threads, quadphase and paper builds (default 1)\n"
+               "  --depth D            quadphase build: auto | N | auto+K | auto-K (default auto)\n"
+               "  --levels L           paper build: auto | N | auto+K | auto-K (default auto: leaf about 2 "
+               "fat boxes)\n"
+               "  --check-every K      run the error checks after every K-th step (default 1)\n"
+               "  --sample-every S     positions sampling period in simulated seconds (default 0.5)\n"
+               "  --positions-out F    write the dynamic bodies' positions at every sample time to F\n",
+               kBuild, qs::SceneNameList().c_str());
     Options o;
     o.scene = args.Get("scene");
     o.size = int(args.GetInt("size", o.size));

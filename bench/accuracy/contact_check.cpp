@@ -4,6 +4,7 @@
 #include <cmath>
 #include <unordered_map>
 #include <unordered_set>
+#include <utility>
 
 namespace quadphase::accuracy
 {
@@ -19,39 +20,24 @@ struct Proxy
     bool dynamic;
 };
 
-// A fixture child, ordered by (fixture address, child index).
-struct ChildKey
-{
-    uintptr_t fixture;
-    int32 child;
-    bool operator<(const ChildKey& o) const
-    {
-        return fixture < o.fixture || (fixture == o.fixture && child < o.child);
-    }
-    bool operator==(const ChildKey& o) const { return fixture == o.fixture && child == o.child; }
-};
+// A fixture child, ordered by (fixture address, child index), and a pair of them (smaller first).
+using ChildKey = std::pair<uintptr_t, int32>;
+using PairKey = std::pair<ChildKey, ChildKey>;
 
 ChildKey KeyOf(const b2Fixture* fixture, int32 child)
 {
     return ChildKey{reinterpret_cast<uintptr_t>(fixture), child};
 }
 
-struct PairKey
-{
-    ChildKey a;
-    ChildKey b;
-    bool operator==(const PairKey& o) const { return a == o.a && b == o.b; }
-};
-
 struct PairKeyHash
 {
     size_t operator()(const PairKey& k) const
     {
-        uint64_t h = static_cast<uint64_t>(k.a.fixture) * 0x9E3779B97F4A7C15ull;
-        h ^= static_cast<uint64_t>(static_cast<uint32_t>(k.a.child)) + 0x632BE59BD9B4E019ull + (h << 6) +
+        uint64_t h = static_cast<uint64_t>(k.first.first) * 0x9E3779B97F4A7C15ull;
+        h ^= static_cast<uint64_t>(static_cast<uint32_t>(k.first.second)) + 0x632BE59BD9B4E019ull + (h << 6) +
              (h >> 2);
-        h ^= static_cast<uint64_t>(k.b.fixture) * 0xC2B2AE3D27D4EB4Full + (h << 6) + (h >> 2);
-        h ^= static_cast<uint64_t>(static_cast<uint32_t>(k.b.child)) + (h << 6) + (h >> 2);
+        h ^= static_cast<uint64_t>(k.second.first) * 0xC2B2AE3D27D4EB4Full + (h << 6) + (h >> 2);
+        h ^= static_cast<uint64_t>(static_cast<uint32_t>(k.second.second)) + (h << 6) + (h >> 2);
         return static_cast<size_t>(h);
     }
 };

@@ -5,7 +5,6 @@
 #include <omp.h>
 
 #include <algorithm>
-#include <string>
 
 #include "quadphase/error.h"
 #include "quadphase/row_major.h"
@@ -104,7 +103,7 @@ void PaperQuadtreeBroadPhase::BuildTree()
     m_leaves.clear();
     // (4^levels - 1) / 3 nodes; reserved so that no push_back moves the nodes during Generate.
     m_nodes.reserve(size_t(((int64_t(1) << (2 * m_levels)) - 1) / 3));
-    m_nodes.push_back(Node{m_bounds, {}, {}, -1, -1});
+    m_nodes.push_back(Node{m_bounds, {}, {}, -1});
     std::vector<int32_t> creationOrder;
     creationOrder.reserve(size_t(m_leafSide) * size_t(m_leafSide));
     Generate(0, m_levels, creationOrder);
@@ -118,7 +117,6 @@ void PaperQuadtreeBroadPhase::Generate(int32_t node, int remainingLevels, std::v
 {
     if (remainingLevels <= 1)
     {
-        m_nodes[size_t(node)].creationIndex = int32_t(creationOrder.size());
         creationOrder.push_back(node);
         return;
     }
@@ -134,7 +132,7 @@ void PaperQuadtreeBroadPhase::Generate(int32_t node, int remainingLevels, std::v
     for (const Box& q : quadrants)
     {
         m_nodes[size_t(node)].children.push_back(int32_t(m_nodes.size()));
-        m_nodes.push_back(Node{q, {}, {}, -1, -1});
+        m_nodes.push_back(Node{q, {}, {}, -1});
     }
     for (int i = 0; i < 4; ++i)
     {
@@ -418,100 +416,6 @@ const Box& PaperQuadtreeBroadPhase::GetFatBox(ProxyId id) const
 void* PaperQuadtreeBroadPhase::GetUserData(ProxyId id) const
 {
     return m_pool.IsLive(id) ? m_pool.UserData(id) : nullptr;
-}
-
-// ---------------------------------------------------------------------------------------------------------------
-// Inspection.
-
-const Box& PaperQuadtreeBroadPhase::GetLeafBox(int32_t row, int32_t column) const
-{
-    if (row < 0 || row >= m_leafSide || column < 0 || column >= m_leafSide)
-    {
-        return kEmptyBox;
-    }
-    return m_nodes[size_t(m_leaves[size_t(row * m_leafSide + column)])].box;
-}
-
-int32_t PaperQuadtreeBroadPhase::GetLeafCreationIndex(int32_t row, int32_t column) const
-{
-    if (row < 0 || row >= m_leafSide || column < 0 || column >= m_leafSide)
-    {
-        return -1;
-    }
-    return m_nodes[size_t(m_leaves[size_t(row * m_leafSide + column)])].creationIndex;
-}
-
-int32_t PaperQuadtreeBroadPhase::GetLeafOf(ProxyId id) const
-{
-    return m_pool.IsLive(id) ? m_nodes[size_t(Descend(m_pool.Fat(id)))].leafIndex : -1;
-}
-
-std::string PaperQuadtreeBroadPhase::Validate() const
-{
-    const int32_t side = m_leafSide;
-    if (m_leaves.size() != size_t(side) * size_t(side))
-    {
-        return "leaf vector has " + std::to_string(m_leaves.size()) + " entries, expected " +
-               std::to_string(int64_t(side) * side);
-    }
-    if (m_locks == nullptr || m_locks->leaf.size() != m_leaves.size())
-    {
-        return "leaf locks do not match the leaves";
-    }
-    for (int32_t row = 0; row < side; ++row)
-    {
-        for (int32_t column = 0; column < side; ++column)
-        {
-            const int32_t index = row * side + column;
-            const Node& leaf = m_nodes[size_t(m_leaves[size_t(index)])];
-            const std::string where = "leaf (row " + std::to_string(row) + ", column " + std::to_string(column) + ")";
-            if (!leaf.children.empty() || leaf.leafIndex != index)
-            {
-                return where + " is not a leaf numbered " + std::to_string(index);
-            }
-            if (leaf.creationIndex != int32_t(PaperCreationIndex(uint32_t(row), uint32_t(column))))
-            {
-                return where + " has creation index " + std::to_string(leaf.creationIndex);
-            }
-            const float expectMinX = column == 0 ? m_bounds.minX : GetLeafBox(row, column - 1).maxX;
-            const float expectMinY = row == 0 ? m_bounds.minY : GetLeafBox(row - 1, column).maxY;
-            if (leaf.box.minX != expectMinX || leaf.box.minY != expectMinY ||
-                (column == side - 1 && leaf.box.maxX != m_bounds.maxX) ||
-                (row == side - 1 && leaf.box.maxY != m_bounds.maxY) || !(leaf.box.minX < leaf.box.maxX) ||
-                !(leaf.box.minY < leaf.box.maxY))
-            {
-                return where + " is not in row-major place";
-            }
-            if (!leaf.objects.empty())
-            {
-                return where + " was not cleared";
-            }
-        }
-    }
-    for (const Node& n : m_nodes)
-    {
-        if (n.children.empty())
-        {
-            continue;
-        }
-        if (n.children.size() != 4)
-        {
-            return "an inner node has " + std::to_string(n.children.size()) + " children";
-        }
-        const Box& c0 = m_nodes[size_t(n.children[0])].box;
-        const Box& c1 = m_nodes[size_t(n.children[1])].box;
-        const Box& c2 = m_nodes[size_t(n.children[2])].box;
-        const Box& c3 = m_nodes[size_t(n.children[3])].box;
-        const bool tiles = c0.minX == n.box.minX && c0.minY == n.box.minY && c0.maxX == c1.minX &&
-                           c0.maxY == c2.minY && c3.maxX == n.box.maxX && c3.maxY == n.box.maxY &&
-                           c1.maxX == n.box.maxX && c2.maxY == n.box.maxY && c1.minY == n.box.minY &&
-                           c2.minX == n.box.minX && c3.minX == c1.minX && c3.minY == c2.minY;
-        if (!tiles)
-        {
-            return "children do not tile their parent in the order TL, TR, BL, BR";
-        }
-    }
-    return m_pool.Validate();
 }
 
 } // namespace bench

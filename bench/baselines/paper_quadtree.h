@@ -17,7 +17,6 @@
 
 #include <cstdint>
 #include <memory>
-#include <string>
 #include <vector>
 
 #include "quadphase/broad_phase_interface.h"
@@ -88,34 +87,11 @@ public:
     void* GetUserData(ProxyId id) const override;
     int32_t GetProxyCount() const override { return m_pool.LiveCount(); }
 
-    void SetReport(PaperPairReport report) { m_report = report; }
-    PaperPairReport GetReport() const { return m_report; }
-
     int GetLevels() const { return m_levels; }
-    /// Leaves along one side: 2^(levels-1).
-    int32_t GetLeafSide() const { return m_leafSide; }
-    const Box& GetBounds() const { return m_bounds; }
-    int GetThreads() const { return m_threads; }
-    Schedule GetSchedule() const { return m_schedule; }
-
-    /// Box of the leaf at row `row` (0 at bounds.minY), column `column` (0 at bounds.minX), looked up through the
-    /// row-major leaf vector.
-    const Box& GetLeafBox(int32_t row, int32_t column) const;
-
-    /// Position (0-based) of the leaf at `row`, `column` in the paper's creation order, before linearizing.
-    int32_t GetLeafCreationIndex(int32_t row, int32_t column) const;
-
-    /// Row-major index (row * GetLeafSide() + column) of the leaf that the centre of `id`'s fat box is inserted
-    /// into; -1 for an unknown id.
-    int32_t GetLeafOf(ProxyId id) const;
 
     /// Counters of the last FindPairs: overlap tests made, and pairs found (before the Buffered filter).
     int64_t GetLastTests() const { return m_lastTests; }
     int64_t GetLastFound() const { return m_lastFound; }
-
-    /// Checks the tree (leaf count, row-major geometry of the linearized leaves, children tile their parent,
-    /// all leaves empty between calls) and the pool. Empty string when all hold, otherwise the first violation.
-    std::string Validate() const;
 
 private:
     struct Node
@@ -123,8 +99,7 @@ private:
         Box box;
         std::vector<int32_t> children; // indices into m_nodes, in the paper's order TL, TR, BL, BR (see README)
         std::vector<ProxyId> objects;  // leaves only
-        int32_t leafIndex = -1;        // row-major index once linearized (the paper's boxIndex); -1 for inner nodes
-        int32_t creationIndex = -1;    // position in creation order; -1 for inner nodes
+        int32_t leafIndex = -1; // row-major index once linearized (the paper's boxIndex); -1 for inner nodes
     };
     struct Locks; // omp_lock_t per leaf and the one pair lock; defined in the .cpp so omp.h stays out of here
 

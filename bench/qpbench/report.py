@@ -86,6 +86,22 @@ def write_lines(path, lines):
         f.write("\n".join(lines).rstrip() + "\n")
 
 
+def prose(path):
+    """The named texts of a report's prose file (bench/prose): a line '@ name' starts one, its lines are joined
+    with spaces, a line starting with '- ' starts a new line of it; what precedes the first text is a comment."""
+    texts, text = {}, None
+    with open(path) as f:
+        for line in f.read().splitlines():
+            if line.startswith("@ "):
+                text = texts.setdefault(line[2:], [])
+            elif text is not None and line:
+                if line.startswith("- ") or not text:
+                    text.append(line)
+                else:
+                    text[-1] += " " + line
+    return {k: "\n".join(v) for k, v in texts.items()}
+
+
 def machine_section(info, heading="## Machine"):
     """The machine, build, code and load lines of machine.describe() (plus the runner's quiet samples)."""
     L = [heading, ""]

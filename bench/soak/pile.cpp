@@ -46,12 +46,8 @@ struct Counter
 
 int main(int argc, char** argv)
 {
-    const qpbench::Args args(argc, argv, {});
-    const std::vector<std::string> problems = args.Problems({"counts", "rounds"});
-    if (!problems.empty())
-    {
-        Usage(problems.front().c_str());
-    }
+    const qpbench::Args args(argc, argv, "qp-pile", {"counts", "rounds"});
+    args.Check(true, "usage: qp-pile [--counts N1,N2,...] [--rounds R]\n");
     std::vector<int> counts = {1000, 2000, 4000, 8000};
     if (args.Has("counts"))
     {

@@ -32,9 +32,8 @@ inline void ApplyThreads(b2World& world, const std::string& value)
     {
         return;
     }
-    char* end = nullptr;
-    const long threads = std::strtol(value.c_str(), &end, 10);
-    if (end == value.c_str() || *end != '\0' || threads < 0 || (!kQuadtree && threads != 1))
+    long threads = 0;
+    if (!ParseLong(value, threads) || threads < 0 || (!kQuadtree && threads != 1))
     {
         Die(2, "qp-%s: --threads must be %s, got '%s'\n", kVariant,
             kQuadtree ? "a count >= 0 or default" : "1 or default (stock is single-threaded)", value.c_str());

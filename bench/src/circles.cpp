@@ -33,7 +33,6 @@
 #include <unordered_set>
 #include <vector>
 
-#include "b2_box.h"
 #include "box2d/b2_broad_phase.h"
 #include "paper_quadtree.h"
 #include "quadphase/quadtree_broad_phase.h"
@@ -381,29 +380,21 @@ Evaluation Evaluate(const Settings& s, int n)
 
 int main(int argc, char** argv)
 {
-    const Args args(argc, argv, {"help"});
-    const std::vector<std::string> problems =
-        args.Problems({"engine", "threads", "depth", "budget-ms", "repeats", "frames", "warmup", "start",
-                       "precision", "max-seconds", "max-n", "seed", "json", "label", "help"});
+    const Args args(argc, argv, "qp-circles",
+                    {"engine", "threads", "depth", "budget-ms", "repeats", "frames", "warmup", "start",
+                     "precision", "max-seconds", "max-n", "seed", "json", "label"});
     Settings s;
     s.engine = args.Get("engine");
     const bool knownEngine =
         s.engine == "pairwise" || s.engine == "paper" || s.engine == "stock" || s.engine == "quadtree";
-    if (args.Has("help") || !problems.empty() || !knownEngine)
+    if (!knownEngine && args.Has("engine"))
     {
-        for (const std::string& p : problems)
-        {
-            std::fprintf(stderr, "qp-circles: %s\n", p.c_str());
-        }
-        if (!knownEngine && args.Has("engine"))
-        {
-            std::fprintf(stderr, "qp-circles: unknown engine '%s'\n", s.engine.c_str());
-        }
-        Die(args.Has("help") ? 0 : 2,
-            "usage: qp-circles --engine pairwise|paper|stock|quadtree [--threads T] [--depth D|auto]\n"
-            "       [--budget-ms 20] [--repeats 3] [--frames 10] [--warmup 20] [--start 1000]\n"
-            "       [--precision 0.03] [--max-seconds 60] [--max-n N] [--seed S] [--json FILE]\n");
+        std::fprintf(stderr, "qp-circles: unknown engine '%s'\n", s.engine.c_str());
     }
+    args.Check(knownEngine,
+               "usage: qp-circles --engine pairwise|paper|stock|quadtree [--threads T] [--depth D|auto]\n"
+               "       [--budget-ms 20] [--repeats 3] [--frames 10] [--warmup 20] [--start 1000]\n"
+               "       [--precision 0.03] [--max-seconds 60] [--max-n N] [--seed S] [--json FILE]\n");
     s.threads = int(args.GetInt("threads", 1));
     const std::string depth = args.Get("depth", "auto");
     s.depth = depth == "auto" ? -1 : std::atoi(depth.c_str());

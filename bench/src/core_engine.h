@@ -1,7 +1,10 @@
-// qp-replay's engine over a quadphase::BroadPhaseInterface implementation (replay_common.h's Engine concept), with
-// the buffered-proxy tracking the quadtree's checking run uses.
+// qp-replay's engine over a quadphase::BroadPhaseInterface implementation (replay_common.h's Engine concept),
+// with the buffered-proxy tracking the quadtree's checking run uses; and the entry point of the other engines
+// (replay_peers.cpp lists them and their two modes).
 #pragma once
 
+#include <functional>
+#include <string>
 #include <type_traits>
 #include <vector>
 
@@ -132,5 +135,21 @@ private:
     std::vector<uint8_t> m_flag;
     std::vector<ProxyId> m_buffered;
 };
+
+/// What a peer's run needs: the options (--check, --repeats, --json, --hashes-out, --compare-hashes,
+/// --levels,
+/// --threads, ...), the trace, the --engine name and a JSON line with the common fields (kind: "run",
+/// "check").
+struct PeerRun
+{
+    const Args& args;
+    const LoadedTrace& loaded;
+    std::string engine;
+    std::function<JsonLine(const char*)> base;
+};
+
+/// Checks (untimed) and times `run.engine` on the trace; returns the exit code (3: a pair-set mismatch).
+/// Exits with 2 on an engine that is unknown or not built here, or refused settings.
+int RunPeer(const PeerRun& run);
 
 } // namespace qpbench

@@ -284,25 +284,16 @@ private:
 
 int main(int argc, char** argv)
 {
-    const Args args(argc, argv, {"help"});
-    const std::vector<std::string> problems = args.Problems(
-        {"bodies", "world", "queries", "query-size", "short-rays", "short-length", "long-rays", "teleport",
-         "teleport-queries", "repeats", "seed", "threads", "json", "label", "help"});
+    const Args args(argc, argv, "qp-query-" + std::string(kVariant),
+                    {"bodies", "world", "queries", "query-size", "short-rays", "short-length", "long-rays",
+                     "teleport", "teleport-queries", "repeats", "seed", "threads", "json", "label"});
     const long repeats = args.GetInt("repeats", 3);
-    if (args.Has("help") || !problems.empty() || repeats < 1 || args.GetInt("bodies", 50000) < 1 ||
-        args.GetInt("world", 1000) <= 0)
-    {
-        for (const std::string& p : problems)
-        {
-            std::fprintf(stderr, "qp-query-%s: %s\n", kVariant, p.c_str());
-        }
-        Die(args.Has("help") ? 0 : 2,
-            "usage: qp-query-%s [--bodies 50000] [--world 1000] [--queries 2000] [--query-size 2]\n"
-            "       [--short-rays 2000] [--short-length 10] [--long-rays 200] [--teleport 37500]\n"
-            "       [--teleport-queries 2000] [--repeats 3 (>= 1)] [--seed 1] [--threads T|default]\n"
-            "       [--json FILE] [--label TEXT]\n",
-            kVariant);
-    }
+    args.Check(repeats >= 1 && args.GetInt("bodies", 50000) >= 1 && args.GetInt("world", 1000) > 0,
+               "usage: qp-query-%s [--bodies 50000] [--world 1000] [--queries 2000] [--query-size 2]\n"
+               "       [--short-rays 2000] [--short-length 10] [--long-rays 200] [--teleport 37500]\n"
+               "       [--teleport-queries 2000] [--repeats 3 (>= 1)] [--seed 1] [--threads T|default]\n"
+               "       [--json FILE] [--label TEXT]\n",
+               kVariant);
     const uint32_t seed = uint32_t(args.GetInt("seed", 1));
     const int64_t setup0 = NowNs();
     Bench bench(args, seed);

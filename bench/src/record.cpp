@@ -1,5 +1,5 @@
 // qp-record: builds a scene, steps it, and records every broadphase call of its world (quadphase::SetTrace) into a
-// trace file, plus a ".steps" side file holding the op index of every world-step boundary (step_index.h).
+// trace file, plus a ".steps" side file holding the op index of every world-step boundary (replay_common.h).
 //
 //   qp-record --scene particles --size 50000 [--seed 1] [--warmup 60] [--steps 30] --out DIR/particles-50000.qptrace
 //
@@ -27,34 +27,15 @@
 #include "phase.h"
 #include "replay_common.h"
 
-namespace
-{
-
-void Usage()
-{
-    std::fprintf(stderr,
-                 "usage: qp-record --scene NAME --size N [--seed S] [--warmup W] [--steps S] --out FILE\n"
-                 "  scenes: %s\n"
-                 "  Records scene creation + W warm-up steps + S steps into FILE and FILE.steps.\n",
-                 quadphase::scenes::SceneNameList().c_str());
-}
-
-} // namespace
-
 int main(int argc, char** argv)
 {
     using namespace quadphase;
-    const qpbench::Args args(argc, argv, {"help"});
-    const std::vector<std::string> problems = args.Problems({"scene", "size", "seed", "warmup", "steps", "out", "help"});
-    if (args.Has("help") || !problems.empty() || !args.Has("scene") || !args.Has("out"))
-    {
-        for (const std::string& p : problems)
-        {
-            std::fprintf(stderr, "qp-record: %s\n", p.c_str());
-        }
-        Usage();
-        return args.Has("help") ? 0 : 2;
-    }
+    const qpbench::Args args(argc, argv, "qp-record", {"scene", "size", "seed", "warmup", "steps", "out"});
+    args.Check(args.Has("scene") && args.Has("out"),
+               "usage: qp-record --scene NAME --size N [--seed S] [--warmup W] [--steps S] --out FILE\n"
+               "  scenes: %s\n"
+               "  Records scene creation + W warm-up steps + S steps into FILE and FILE.steps.\n",
+               quadphase::scenes::SceneNameList().c_str());
     const std::optional<scenes::SceneId> sceneId = scenes::ParseSceneName(args.Get("scene"));
     if (!sceneId)
     {
@@ -134,8 +115,7 @@ int main(int argc, char** argv)
     phaseFile << phases;
     if (!trace.Save(out, error) || !index.Save(out + ".steps", error) || !phaseFile)
     {
-        std::fprintf(stderr, "qp-record: %s\n", error.c_str());
-        return 1;
+        qpbench::Die(1, "qp-record: %s\n", error.c_str());
     }
 
     // Counts: whole trace, and the S timed steps.

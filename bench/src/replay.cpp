@@ -24,13 +24,11 @@
 
 #include <omp.h>
 
+#include "core_engine.h"
 #include "quadphase/brute_force_broad_phase.h"
 #include "quadphase/config.h"
 #include "quadphase/quadtree_broad_phase.h"
-#include "heap_bytes.h"
 #include "replay_common.h"
-#include "replay_peers.h"
-#include "core_engine.h"
 
 namespace
 {
@@ -58,9 +56,8 @@ const char* ScheduleName(Schedule s)
 
 int ToInt(const std::string& key, const std::string& v)
 {
-    char* end = nullptr;
-    const long x = std::strtol(v.c_str(), &end, 10);
-    if (v.empty() || *end != '\0')
+    long x = 0;
+    if (!ParseLong(v, x))
     {
         Die(2, "qp-replay: %s: '%s' is not an integer\n", key.c_str(), v.c_str());
     }
@@ -242,39 +239,29 @@ double TriadBytesPerSecond(size_t n, int repeats)
     return 24.0 * double(n) / best;
 }
 
-void Usage()
-{
-    std::fprintf(stderr,
-                 "usage: qp-replay --trace FILE [--steps-file FILE] [--engine NAME] [--repeats R] [--check none|first|all]\n"
-                 "                 [--hashes-out FILE] [--compare-hashes FILE] [--json FILE] [--label TEXT]\n"
-                 "  quadtree (default): [--threads N] [--schedule static|dynamic|guided|auto] [--chunk C] [--depth D|auto]\n"
-                 "                 [--threshold T] [--config k=v,k=v]... [--brute] [--per-call]\n"
-                 "  null: the replay loop alone; stock, brute, paper ([--levels L|auto] [--threads N]), oracle, cp-hash-xK,\n"
-                 "  cp-tree, bt-dbvt, and -native[-mM] modes of cp-hash-xK, cp-tree, bt-dbvt, bt-sap (replay_peers.cpp)\n"
-                 "  qp-replay --omp-overhead | --triad | --print-config\n"
-                 "available here: stock brute paper oracle%s%s\n",
-                 QP_HAVE_CHIPMUNK ? " cp-hash cp-tree" : "", QP_HAVE_BULLET ? " bt-dbvt bt-sap" : "");
-}
-
 } // namespace
 
 int main(int argc, char** argv)
 {
-    const Args args(argc, argv, {"brute", "omp-overhead", "help", "force-brute", "per-call", "print-config", "triad"});
-    const std::vector<std::string> problems =
-        args.Problems({"trace", "steps-file", "threads", "schedule", "chunk", "depth", "threshold", "config", "repeats",
-                       "check", "hashes-out", "compare-hashes", "brute", "force-brute", "engine", "json", "label",
-                       "omp-overhead", "per-call", "print-config", "help", "triad", "levels", "max-proxies"});
-    if (args.Has("help") || !problems.empty() ||
-        (!args.Has("trace") && !args.Has("omp-overhead") && !args.Has("print-config") && !args.Has("triad")))
-    {
-        for (const std::string& p : problems)
-        {
-            std::fprintf(stderr, "qp-replay: %s\n", p.c_str());
-        }
-        Usage();
-        return args.Has("help") ? 0 : 2;
-    }
+    const Args args(argc, argv, "qp-replay",
+                    {"trace", "steps-file", "threads", "schedule", "chunk", "depth", "threshold", "config",
+                     "repeats", "check", "hashes-out", "compare-hashes", "engine", "json", "label", "levels",
+                     "max-proxies"},
+                    {"brute", "omp-overhead", "force-brute", "per-call", "print-config", "triad"});
+    args.Check(args.Has("trace") || args.Has("omp-overhead") || args.Has("print-config") || args.Has("triad"),
+               "usage: qp-replay --trace FILE [--steps-file FILE] [--engine NAME] [--repeats R]"
+               " [--check none|first|all]\n"
+               "                 [--hashes-out FILE] [--compare-hashes FILE] [--json FILE] [--label TEXT]\n"
+               "  quadtree (default): [--threads N] [--schedule static|dynamic|guided|auto] [--chunk C]"
+               " [--depth D|auto]\n"
+               "                 [--threshold T] [--config k=v,k=v]... [--brute] [--per-call]\n"
+               "  null: the replay loop alone; stock, brute, paper ([--levels L|auto] [--threads N]),"
+               " oracle, cp-hash-xK,\n"
+               "  cp-tree, bt-dbvt, and -native[-mM] modes of cp-hash-xK, cp-tree, bt-dbvt, bt-sap"
+               " (replay_peers.cpp)\n"
+               "  qp-replay --omp-overhead | --triad | --print-config\n"
+               "available here: stock brute paper oracle%s%s\n",
+               QP_HAVE_CHIPMUNK ? " cp-hash cp-tree" : "", QP_HAVE_BULLET ? " bt-dbvt bt-sap" : "");
     if (args.Has("print-config"))
     {
         // The core's defaults, for scripts (bench/parallel.py reads the default parallelThreshold).
@@ -487,7 +474,7 @@ int main(int argc, char** argv)
             const int64_t heap0 = HeapBytes();
             auto engine = std::make_unique<CoreEngine<quadphase::QuadtreeBroadPhase>>(quadphase::FatPolicy{}, c);
             const RunResult result = Replay(loaded, *engine);
-            const int64_t heap = HeapBytes() - heap0; // what the engine holds after the whole trace (heap_bytes.h)
+            const int64_t heap = HeapBytes() - heap0; // what the engine holds after the whole trace (HeapBytes)
             const quadphase::Stats st = engine->Get().GetStats();
             JsonLine j = baseJson("run");
             j.Str("engine", "quadtree");

@@ -1,14 +1,15 @@
-// qp-replay's trace replay, for every engine: loading a trace and its
-// step index, the replay loop and its timing definition, pair-set hashes (tool_common.h: the rest).
+// qp-replay's trace replay, for every engine: a trace and its step index (qp-record writes them), the replay
+// loop and its timing definition, pair-set hashes, heap bytes (tool_common.h: the rest).
 //
 // Timing definition (the same for every engine):
-// - The ops before the first timed step (scene creation and the warm-up steps) are replayed untimed: they bring
+// - The ops before the first timed step (scene creation and the warm-up steps) are replayed untimed: they
+// bring
 //   the broadphase to the state the recorded world had.
 // - A timed step is the ops between two step boundaries of the ".steps" file. Its time is one clock read pair
-//   around all of them: every CreateProxy/DestroyProxy/MoveProxy/TouchProxy/ShiftOrigin plus every UpdatePairs
-//   (FindPairs into a vector; for the stock class, its AddPair callback appends to a vector). The dispatch over the
-//   recorded ops and the recorded-id -> engine-id lookup are inside it (the null engine of qp-replay measures that
-//   overhead alone).
+//   around all of them: every CreateProxy/DestroyProxy/MoveProxy/TouchProxy/ShiftOrigin plus every
+//   UpdatePairs (FindPairs into a vector; for the stock class, its AddPair callback appends to a vector). The
+//   dispatch over the recorded ops and the recorded-id -> engine-id lookup are inside it (the null engine of
+//   qp-replay measures that overhead alone).
 // - "FindPairs time" is the sum of clock read pairs around each UpdatePairs of the step.
 // - Work done only for checking (hashing pair sets, query statistics) is done on a separate, untimed run.
 #pragma once
@@ -20,8 +21,11 @@
 #include <cstdlib>
 #include <fstream>
 #include <numeric>
+#include <sstream>
 #include <string>
 #include <vector>
+
+#include <malloc.h>
 
 #if __has_include(<valgrind/callgrind.h>)
 #include <valgrind/callgrind.h> // instruction counts of the timed steps only: valgrind --tool=callgrind --instr-atstart=no
@@ -30,9 +34,8 @@
 #define CALLGRIND_STOP_INSTRUMENTATION
 #endif
 
+#include "box2d/b2_collision.h"
 #include "quadphase/trace.h"
-#include "heap_bytes.h"
-#include "step_index.h"
 #include "tool_common.h"
 
 namespace qpbench
@@ -42,6 +45,132 @@ using quadphase::Box;
 using quadphase::Trace;
 using quadphase::TraceOp;
 using quadphase::Vec2;
+
+// ---------------------------------------------------------------------------------------------------------------
+// The ".steps" side file qp-record writes next to a trace: which scene it came from and the op index of every
+// world-step boundary, so a replay can time the broadphase work of each step.
+//
+// Text format, one "key value..." per line:
+//     qp-steps 1
+//     scene particles
+//     size 50000
+//     seed 1
+//     warmup 60            steps replayed untimed (they bring the broadphase to the recorded state)
+//     steps 30             steps timed
+//     bodies 50001         at the end of the recording
+//     proxies 50004        at the end of the recording
+//     boundary 50004       op index where step 0 starts (the ops before it create the scene's proxies)
+//     boundary 100321      op index where step 1 starts / step 0 ends
+//     ...                  warmup + steps + 1 boundary lines in all
+// Step k (0-based) is ops [boundary[k], boundary[k+1]): everything the broadphase was asked between the start
+// of world.Step number k and the start of world.Step number k+1 (including what the scene's perStep did in
+// between).
+// ---------------------------------------------------------------------------------------------------------------
+struct StepIndex
+{
+    std::string scene;
+    int size = 0;
+    uint32_t seed = 0;
+    int warmup = 0;
+    int steps = 0;
+    int64_t bodies = 0;
+    int64_t proxies = 0;
+    std::vector<uint64_t> boundary; // warmup + steps + 1 entries
+
+    bool Save(const std::string& path, std::string& error) const
+    {
+        std::ofstream out(path);
+        if (!out)
+        {
+            error = "cannot open " + path + " for writing";
+            return false;
+        }
+        out << "qp-steps 1\n";
+        out << "scene " << scene << "\nsize " << size << "\nseed " << seed << "\n";
+        out << "warmup " << warmup << "\nsteps " << steps << "\n";
+        out << "bodies " << bodies << "\nproxies " << proxies << "\n";
+        for (uint64_t b : boundary)
+        {
+            out << "boundary " << b << "\n";
+        }
+        if (!out)
+        {
+            error = "cannot write " + path;
+            return false;
+        }
+        return true;
+    }
+
+    bool Load(const std::string& path, std::string& error)
+    {
+        std::ifstream in(path);
+        if (!in)
+        {
+            error = "cannot open " + path;
+            return false;
+        }
+        int version = 0;
+        std::string line;
+        boundary.clear();
+        while (std::getline(in, line))
+        {
+            std::istringstream fields(line);
+            std::string key;
+            fields >> key;
+            const auto field = [&](const char* name, auto& value)
+            {
+                if (key == name)
+                {
+                    fields >> value;
+                }
+            };
+            if (key == "boundary")
+            {
+                fields >> boundary.emplace_back();
+            }
+            field("qp-steps", version);
+            field("scene", scene);
+            field("size", size);
+            field("seed", seed);
+            field("warmup", warmup);
+            field("steps", steps);
+            field("bodies", bodies);
+            field("proxies", proxies);
+        }
+        const bool counted =
+            warmup >= 0 && steps > 0 && boundary.size() == size_t(warmup) + size_t(steps) + 1;
+        error = version != 1 ? path + " is not a qp-steps v1 file"
+                : !counted   ? path + ": expected warmup + steps + 1 boundary lines"
+                : !std::is_sorted(boundary.begin(), boundary.end()) ? path + ": boundaries are not increasing"
+                                                                    : "";
+        return error.empty();
+    }
+};
+
+// Heap bytes in use by the process (glibc's mallinfo2: small blocks in use plus mmap'ed blocks). The replay
+// tools read it before building an engine and after replaying the whole trace through it: the difference is
+// what the engine holds (its index, id maps, buffers and its pair vector), measured the same way for every
+// engine, whatever allocator wrapper it uses internally (Box2D's b2Alloc, Chipmunk's cpcalloc and Bullet's
+// btAlignedAlloc all end in malloc).
+inline int64_t HeapBytes()
+{
+#if defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 33))
+    const struct mallinfo2 mi = mallinfo2();
+    return int64_t(mi.uordblks) + int64_t(mi.hblkhd);
+#else
+    return 0; // unknown: reported as 0 bytes
+#endif
+}
+
+/// quadphase's Box as Box2D's b2AABB, for the tools that drive stock Box2D's b2BroadPhase (qp-replay,
+/// qp-circles).
+inline b2AABB ToAabb(const quadphase::Box& b)
+{
+    b2AABB a;
+    a.lowerBound.Set(b.minX, b.minY);
+    a.upperBound.Set(b.maxX, b.maxY);
+    return a;
+}
 
 // ---------------------------------------------------------------------------------------------------------------
 // Pair-set hashes: for each UpdatePairs call, the sorted unique list of pairs in recorded ids (a < b) is hashed
@@ -430,7 +559,7 @@ inline void AddRun(JsonLine& j, const RunResult& r)
 }
 
 /// The timed runs of every engine but the quadtree (replay_peers.cpp): `repeats` replays, each of a fresh engine
-/// from make(); one JSON line per run (base("run"), the run's heap bytes per proxy as heap_bytes.h measures them,
+/// from make(); one JSON line per run (base("run"), the run's heap bytes per proxy as HeapBytes measures them,
 /// the per-step arrays), a line per run and the median on stdout.
 template <typename Make, typename Base>
 void TimedRuns(const LoadedTrace& loaded, const char* name, int repeats, const std::string& jsonPath, Make make,

@@ -27,7 +27,6 @@
 #include <string>
 #include <vector>
 
-#include "b2_box.h"
 #include "box2d/b2_broad_phase.h"
 #include "core_engine.h"
 #include "paper_quadtree.h"
@@ -35,7 +34,6 @@
 #include "quadphase/brute_force_broad_phase.h"
 #include "quadphase/fat_policy.h"
 #include "replay_common.h"
-#include "replay_peers.h"
 
 namespace qpbench
 {

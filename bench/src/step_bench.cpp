@@ -84,9 +84,9 @@ struct PhaseSamples
 int main(int argc, char** argv)
 {
     namespace scenes = quadphase::scenes;
-    const Args args(argc, argv, {"help", "list", "per-step"});
-    const std::vector<std::string> problems = args.Problems(
-        {"scene", "size", "seed", "warmup", "steps", "threads", "ccd", "json", "label", "help", "list", "per-step"});
+    const Args args(argc, argv, "qp-step-" + std::string(kVariant),
+                    {"scene", "size", "seed", "warmup", "steps", "threads", "ccd", "json", "label"},
+                    {"list", "per-step"});
     if (args.Has("list"))
     {
         for (const scenes::SceneInfo& info : scenes::AllScenes())
@@ -97,21 +97,13 @@ int main(int argc, char** argv)
     }
     const std::string ccd = args.Get("ccd", "scene");
     const std::string threads = args.Get("threads", "1");
-    const bool badCcd = ccd != "scene" && ccd != "on" && ccd != "off";
-    if (args.Has("help") || !problems.empty() || !args.Has("scene") || !args.Has("size") || badCcd)
-    {
-        for (const std::string& p : problems)
-        {
-            std::fprintf(stderr, "qp-step-%s: %s\n", kVariant, p.c_str());
-        }
-        Die(args.Has("help") ? 0 : 2,
-            "usage: qp-step-%s --scene NAME --size N [--seed S] [--warmup W] [--steps S]"
-            " [--threads T|default]\n"
-            "       [--ccd scene|on|off] [--json FILE] [--label TEXT] [--per-step]"
-            "   (--list: scene names and size ranges)\n"
-            "scenes: %s\n",
-            kVariant, scenes::SceneNameList().c_str());
-    }
+    args.Check(args.Has("scene") && args.Has("size") && (ccd == "scene" || ccd == "on" || ccd == "off"),
+               "usage: qp-step-%s --scene NAME --size N [--seed S] [--warmup W] [--steps S]"
+               " [--threads T|default]\n"
+               "       [--ccd scene|on|off] [--json FILE] [--label TEXT] [--per-step]"
+               "   (--list: scene names and size ranges)\n"
+               "scenes: %s\n",
+               kVariant, scenes::SceneNameList().c_str());
     const auto sceneId = scenes::ParseSceneName(args.Get("scene"));
     if (!sceneId)
     {

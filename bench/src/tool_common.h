@@ -41,14 +41,27 @@ inline int64_t NowNs()
     std::exit(code);
 }
 
+/// `text` as a whole integer; false when it is not one.
+inline bool ParseLong(const std::string& text, long& value)
+{
+    char* end = nullptr;
+    value = std::strtol(text.c_str(), &end, 10);
+    return end != text.c_str() && *end == '\0';
+}
+
 // ---------------------------------------------------------------------------------------------------------------
-// Command line: "--key value" and "--flag" options.
+// Command line: "--key value", "--key=value" and "--flag" options.
 // ---------------------------------------------------------------------------------------------------------------
 class Args
 {
 public:
-    Args(int argc, char** argv, const std::vector<std::string>& flags)
+    /// `options` take a value, `flags` do not ("help" is always a flag); anything else is a problem that
+    /// Check() reports. `tool` names the messages.
+    Args(int argc, char** argv, std::string tool, const std::vector<std::string>& options,
+         std::vector<std::string> flags = {})
+        : m_tool(std::move(tool))
     {
+        flags.push_back("help");
         for (int i = 1; i < argc; ++i)
         {
             std::string key = argv[i];
@@ -59,23 +72,48 @@ public:
             }
             key = key.substr(2);
             const size_t eq = key.find('=');
+            const std::string name = key.substr(0, eq);
+            const bool flag = std::find(flags.begin(), flags.end(), name) != flags.end();
+            if (!flag && std::find(options.begin(), options.end(), name) == options.end())
+            {
+                m_errors.push_back("unknown option --" + name);
+            }
             if (eq != std::string::npos)
             {
-                m_values.emplace_back(key.substr(0, eq), key.substr(eq + 1));
+                m_values.emplace_back(name, key.substr(eq + 1));
             }
-            else if (std::find(flags.begin(), flags.end(), key) != flags.end())
+            else if (flag)
             {
-                m_values.emplace_back(key, "1");
+                m_values.emplace_back(name, "1");
             }
             else if (i + 1 < argc)
             {
-                m_values.emplace_back(key, argv[++i]);
+                m_values.emplace_back(name, argv[++i]);
             }
             else
             {
-                m_errors.push_back("--" + key + " needs a value");
+                m_errors.push_back("--" + name + " needs a value");
             }
         }
+    }
+
+    /// With --help, a problem (unknown option, missing value) or `ok` false: prints the problems and the
+    /// printf-style usage to stderr and exits, 0 for --help, else 2.
+    __attribute__((format(printf, 3, 4))) void Check(bool ok, const char* usage, ...) const
+    {
+        if (ok && m_errors.empty() && !Has("help"))
+        {
+            return;
+        }
+        for (const std::string& e : m_errors)
+        {
+            std::fprintf(stderr, "%s: %s\n", m_tool.c_str(), e.c_str());
+        }
+        va_list args;
+        va_start(args, usage);
+        std::vfprintf(stderr, usage, args);
+        va_end(args);
+        std::exit(Has("help") ? 0 : 2);
     }
 
     bool Has(const std::string& key) const { return !GetAll(key).empty(); }
@@ -114,19 +152,6 @@ public:
         }
         return x;
     }
-    /// Keys not in `known`, plus parse errors.
-    std::vector<std::string> Problems(const std::vector<std::string>& known) const
-    {
-        std::vector<std::string> problems = m_errors;
-        for (const auto& kv : m_values)
-        {
-            if (std::find(known.begin(), known.end(), kv.first) == known.end())
-            {
-                problems.push_back("unknown option --" + kv.first);
-            }
-        }
-        return problems;
-    }
 
 private:
     /// The option's value as a number (exits with a message when it is not one, or not an integer when
@@ -147,6 +172,7 @@ private:
         return x;
     }
 
+    std::string m_tool;
     std::vector<std::pair<std::string, std::string>> m_values;
     std::vector<std::string> m_errors;
 };

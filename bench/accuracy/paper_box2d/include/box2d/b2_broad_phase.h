@@ -67,9 +67,6 @@ public:
 
     void ShiftOrigin(const b2Vec2& newOrigin);
 
-    quadphase::bench::PaperQuadtreeBroadPhase& GetPaperTree() { return m_core; }
-    const quadphase::bench::PaperQuadtreeBroadPhase& GetPaperTree() const { return m_core; }
-
 private:
     quadphase::bench::PaperQuadtreeBroadPhase m_core;
     std::vector<quadphase::Pair> m_pairs;
