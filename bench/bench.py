@@ -51,7 +51,7 @@ REPLAY_TRACES = {
     "full": [("particles", 2000, 60, 20), ("particles", 10000, 60, 20), ("particles", 50000, 30, 10),
              ("particles", 100000, 30, 10), ("rain", 4000, 120, 20), ("rain", 16000, 120, 20),
              ("rain", 65536, 60, 10), ("bullets", 1000, 120, 20), ("sparse", 20000, 60, 20),
-             ("tiles", 20000, 60, 20), ("pyramid", 60, 60, 20), ("rain", 4000, 0, 1200), ("rain", 16000, 0, 1000)],
+             ("tiles", 20000, 60, 200), ("pyramid", 60, 60, 20), ("rain", 4000, 0, 1200), ("rain", 16000, 0, 1000)],
 }
 CELL_SCALES = ("0.5", "1", "2", "4", "8")  # cpSpaceHash's cell side, x the mean fat box side
 # Peers (replay_peers.cpp): Box2D's protocol (pairs of the moved proxies, checked against stock's), and native mode
@@ -690,9 +690,18 @@ def headline(d, by, rp, level):
                      f"lowest {low[0][0]:.2f}× ({low[0][1]})"
                      + (f"; below 1.0×: {', '.join(f'{w[1]} {w[0]:.2f}×' for w in low if w[0] < 1.0)}"
                         if low[0][0] < 1.0 else "") + f" | {met(low[0][0] >= 1.0)} |")
-    for eng, goal in (("quadtree-1t", 8), ("quadtree-2t", 14)):
+    # The oracle replays the known pairs on one thread: where even n times its speed is under the goal (rain resting:
+    # almost every call is a MoveProxy that keeps its fat box, and stock's own cost of such a call is little more
+    # than the replay loop's), no broadphase on n threads can reach the goal, and the row says so.
+    oracle = {(r["scene"], r["size"], r["phase"]): r["x_stock"] for r in d["replay_phases"] if r["engine"] == "oracle"}
+    for eng, goal, n in (("quadtree-1t", 8, 1), ("quadtree-2t", 14, 2)):
+        def phase_text(r, goal=goal, n=n):
+            o = oracle.get((r["scene"], r["size"], r["phase"]))
+            bound = (f" (unreachable: the oracle floor is {o:.1f}×" + (f", {n} × that {n * o:.1f}×" if n > 1 else "")
+                     + ")") if o and n * o < goal else ""
+            return f"{r['scene']} {r['size']} {r['phase']}: {r['x_stock']:.1f}×{bound}"
         L += goal_row(f"replay, {threads(eng)}: ≥{goal}× stock in every phase of rain",
-                      [(f"{r['scene']} {r['size']} {r['phase']}: {r['x_stock']:.1f}×", r["x_stock"])
+                      [(phase_text(r), r["x_stock"])
                        for r in d["replay_phases"] if r["engine"] == eng and r["x_stock"]], goal)
     pf = keyed(d["peers"], ("scene", "size"))
     cases = [c for c in big if c in pf and pf[c]["peer_x"]] or [c for c, r in pf.items() if r["peer_x"]]

@@ -474,10 +474,11 @@ int RunPeer(const PeerRun& run)
     const std::string& e = run.engine;
     const LoadedTrace& loaded = run.loaded;
     const Geometry g = Measure(loaded);
-    const bool native = e.find("-native") != std::string::npos;
+    // Unused in a build without Chipmunk2D and Bullet (the peers below are compiled only with them).
+    [[maybe_unused]] const bool native = e.find("-native") != std::string::npos;
     const size_t x = e.find("-x"), m = e.find("-m");
-    const double cellScale = x == std::string::npos ? 1.0 : std::atof(e.c_str() + x + 2);
-    const float multiplier = m == std::string::npos ? 4.0f : float(std::atof(e.c_str() + m + 2));
+    [[maybe_unused]] const double cellScale = x == std::string::npos ? 1.0 : std::atof(e.c_str() + x + 2);
+    [[maybe_unused]] const float multiplier = m == std::string::npos ? 4.0f : float(std::atof(e.c_str() + m + 2));
     const std::string base = e.substr(0, std::min({e.find("-native"), x, m}));
     if (base == "stock")
     {

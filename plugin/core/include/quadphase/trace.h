@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -33,7 +34,18 @@ struct TraceOp
 class Trace
 {
 public:
-    void Add(const TraceOp& op) { m_ops.push_back(op); }
+    /// Appends a copy of `op` whose padding bytes (three, after `kind`) are zero, so that the same calls save to the
+    /// same file, byte for byte.
+    void Add(const TraceOp& op)
+    {
+        TraceOp clean;
+        std::memset(&clean, 0, sizeof(clean));
+        clean.kind = op.kind;
+        clean.id = op.id;
+        clean.box = op.box;
+        clean.displacement = op.displacement;
+        m_ops.push_back(clean);
+    }
     void Clear() { m_ops.clear(); }
     const std::vector<TraceOp>& Ops() const { return m_ops; }
 
