@@ -828,7 +828,7 @@ def phase_section(data, levels):
              fmt(ratio(r.get(f"fair_{p}_stock_bp_ms"), r.get(f"fair_{p}_bp_ms"))),
              f"{fmt(r.get(f'{p}_stock_us_per_awake'), 3)} / {fmt(r.get(f'{p}_qt_us_per_awake'), 3)}"]
             for lv in levels for r in data[lv]["phases"] if r["engine"] != "stock" for p in PHASES
-            if r.get(f"fair_{p}_steps") is not None]
+            if r.get(f"fair_{p}_steps")]  # a phase the run did not reach has no row
     return L + table(["opt", "scene", "threads", "phase (stock's)", "steps", "stock bp ms", "qt bp ms", "bp ×",
                       "µs per awake body: stock / qt"], rows) + [""]
 

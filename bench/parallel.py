@@ -177,6 +177,7 @@ def plan(args):
 def main():
     args = parse_args()
     state_path = os.path.join(args.work, "parallel-state.json")
+    os.makedirs(args.results, exist_ok=True)
     if args.report_only:
         state = report.read_json(state_path)
         set_defaults(state["info"].get("default_config", ""))
@@ -184,7 +185,6 @@ def main():
         report_all(args, state["info"], state["jobs"], Results(rows), state["mismatches"], state["timing"])
         return 1 if any(state["mismatches"].values()) else 0
     t_start = time.time()
-    os.makedirs(args.results, exist_ok=True)
     runner = run.Runner("parallel.py", os.path.join(args.build_dir, "bench"), args.work, "parallel",
                         tools=("qp-record", "qp-replay"), seed=args.seed, rerecord=args.rerecord,
                         wait_quiet=args.wait_quiet, quiet_cpus=args.quiet_cpus, echo=log)
