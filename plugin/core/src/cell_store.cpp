@@ -110,8 +110,8 @@ void CellStore::Compact()
     m_entries.resize(begin);
     if (m_entries.capacity() > 4 * size_t(begin) + 4096)
     {
-        m_entries
-            .shrink_to_fit(); // most proxies are gone: give the memory back (steady state stays below 2x)
+        // Most proxies are gone: give the memory back (the steady state stays below 2x).
+        m_entries.shrink_to_fit();
     }
     std::fill(std::begin(m_freeHead), std::end(m_freeHead), kNone);
 }
