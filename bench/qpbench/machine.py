@@ -3,7 +3,6 @@
 import hashlib
 import os
 import platform
-import shutil
 import subprocess
 import time
 
@@ -77,11 +76,10 @@ def describe(build_dir=None):
             info["cpu"] = next(l.split(":", 1)[1].strip() for l in f if l.startswith("model name"))
     except (OSError, StopIteration):
         pass
-    if shutil.which("lscpu"):
-        for line in _out(["lscpu"]).splitlines():
-            k, _, v = line.partition(":")
-            if k.strip() in LSCPU_KEYS:
-                info[k.strip()] = v.strip()
+    for line in _out(["lscpu"]).splitlines():  # "" when lscpu is missing
+        k, _, v = line.partition(":")
+        if k.strip() in LSCPU_KEYS:
+            info[k.strip()] = v.strip()
     head = _out(["git", "-C", REPO, "log", "-1", "--format=%h %s"])
     dirty = _out(["git", "-C", REPO, "status", "--porcelain", "--", "plugin"])
     info["git"] = (head or "unknown") + (" (plus uncommitted changes in plugin/)" if dirty else "")
