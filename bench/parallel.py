@@ -134,8 +134,7 @@ class Results:
     ns_per_proxy = median_of(lambda r: r["ns_per_proxy_step"])
 
     def first(self, key, field, default=NAN):
-        runs = self.runs.get(key, [])
-        return runs[0].get(field, default) if runs else default
+        return self.runs.get(key, [{}])[0].get(field, default)  # (a key's list of runs is never empty)
 
     def ratios(self, key_num, key_den, field="step_ns"):
         return round_ratios(self.runs.get(key_num, []), self.runs.get(key_den, []), field)
@@ -300,7 +299,7 @@ def steps_label(j):
 
 
 def report_all(args, info, jobs, res, mismatches, timing):
-    md, csv_rows, sec = [], [], {}
+    md, csv_rows, sec = ["# Parallel pair generation: measurements\n"], [], {}
     for j in jobs:
         sec.setdefault(j["section"], []).append(j)
     dflt, sched = DEFAULT["threshold"], DEFAULT["schedule"]
@@ -327,7 +326,6 @@ def report_all(args, info, jobs, res, mismatches, timing):
                 parallel_regions_per_step=fmt(res.first(k, "parallel_calls", NAN) / max(1, res.first(k, "steps", 1)), 2)
                 if q else ""))
 
-    md.append("# Parallel pair generation: measurements\n")
     md.append(TEXT["header"].format(full=" --full" if args.full else "", minutes=timing["total"] / 60,
                                     repeats=args.repeats, **timing) + "\n")
     md += report.machine_section(info)[:-1]
@@ -479,18 +477,16 @@ def report_all(args, info, jobs, res, mismatches, timing):
              ck.get("max_buffered", "–")] for j, ck in zip(sweeps, cks)]) + [""]
     per_call = [(j, t) for j, t in ((j, per_call_rows(res, j)) for j in smalls + sweeps) if t is not None]
     if per_call:
-        md.append(TEXT["per_call"] + "\n")
-        md += table("trace | buffered proxies per call | calls per step | serial µs/call | parallel µs/call | "
-                    "serial / parallel", [[j["display"], r["label"], fmt(r["per_step"], 2), fmt(r["serial"], 1),
-                                           fmt(r["parallel"], 1), fmt(r["ratio"], 2)] for j, t in per_call for r in t])
-        md.append("")
+        md += [TEXT["per_call"] + "\n"] + table("trace | buffered proxies per call | calls per step | serial µs/call "
+                                                 "| parallel µs/call | serial / parallel", [
+            [j["display"], r["label"], fmt(r["per_step"], 2), fmt(r["serial"], 1), fmt(r["parallel"], 1),
+             fmt(r["ratio"], 2)] for j, t in per_call for r in t]) + [""]
     if smalls or sweeps:
         md.append(analysis_c(res, sweeps, smalls, args.thresholds, per_call))
 
     # ---------------- (d) ----------------
     if "d" in args.sections:
-        md.append("## (d) Stock Box2D 2.4.1 `b2BroadPhase` on the same traces\n")
-        md.append(TEXT["d"] + "\n")
+        md += ["## (d) Stock Box2D 2.4.1 `b2BroadPhase` on the same traces\n", TEXT["d"] + "\n"]
         rows = []
         for j in jobs:
             ks = (j["name"], "stock")
