@@ -627,9 +627,8 @@ def markdown(info, data, levels, plots):
         L.append(f"- not built (Chipmunk2D / Bullet missing at configure time): {', '.join(info['engines_missing'])}")
     L += [""] + headline(d, by, rp, levels[0]) + step_section(d, by, plots) + phase_section(data, levels)
     L += replay_section(d, rp, plots) + levels_section(data, levels) + query_section(d) + circles_section(d, plots)
-    timing = info.get("timing", {})
     L += ["## Notes", "", TEXT["notes"],
-          "- Run time: " + ", ".join(f"{k} {v:.0f} s" for k, v in timing.items() if k != "total_s") + ".", ""]
+          "- Run time: " + ", ".join(f"{k} {v:.0f} s" for k, v in info["timing"].items() if k != "total_s") + ".", ""]
     return L
 
 
