@@ -732,10 +732,9 @@ def headline(d, by, rp, level):
         L.append(f"| queries: the same hits as stock (hash of sorted fixture ids; closest hit and fraction) | "
                  f"{'DIFFERENT on ' + ', '.join(bad) if bad else 'identical on every workload'} | {met(not bad)} |")
     cz = {(r["engine"], r["threads"], str(r["depth"])): r["n_max"] for r in d["circles"]}
-    stock_c, brute_c = cz.get(("stock", 1, "auto")), cz.get(("pairwise", 1, "auto"))
     best_q = max([v for (e, t, dd), v in cz.items() if e == "quadtree"] or [0])
-    for target, n, goal, digits, ref in (("the stock tree's circles", stock_c, 8, 1, "stock"),
-                                         ("brute force", brute_c, 80, 0, "brute")):
+    for target, n, goal, digits, ref in (("the stock tree's circles", cz.get(("stock", 1, "auto")), 8, 1, "stock"),
+                                         ("brute force", cz.get(("pairwise", 1, "auto")), 80, 0, "brute")):
         if best_q and n:
             L.append(f"| paper's protocol: quadphase ≥{goal}× {target} | {best_q:,} vs {n:,} = "
                      f"{best_q / n:.{digits}f}× (reference here: {ref} ≈{REFERENCE['circles_' + ref]:,}) | "
