@@ -539,15 +539,14 @@ def figures(res, d):
                 ax.bar([x + (k - 0.5) * 0.4 for x in range(len(cases))],
                        [x_stock(by, c, eng, metric) or 0 for c in cases], 0.4, color=color, label=ENGINE_LABEL[eng])
             ax.axhline(1.0, color="black", lw=0.8)
-            ax.set_yscale("log")
+            # The scale before the formatters: setting it resets them.
+            ax.set(yscale="log", ylabel="stock time / quadtree time", title=title + ": > 1 means quadphase is faster")
             ax.yaxis.set_major_formatter(FuncFormatter(lambda y, _: f"{y:g}×"))
             ax.yaxis.set_minor_formatter(FuncFormatter(
                 lambda y, _: f"{y:g}×" if y > 0 and round(y / 10 ** math.floor(math.log10(y))) in (2, 5) else ""))
-            ax.set(ylabel="stock time / quadtree time", title=title + ": > 1 means quadphase is faster")
             ax.legend(fontsize=8)
             ax.grid(axis="y", alpha=0.3, which="both")
-        axes[1].set_xticks(list(range(len(cases))))
-        axes[1].set_xticklabels([f"{s} {n}" for s, n in cases], rotation=60, ha="right", fontsize=8)
+        axes[1].set_xticks(range(len(cases)), [f"{s} {n}" for s, n in cases], rotation=60, ha="right", fontsize=8)
         plots["step"] = "results/step_ratios.png"
         plot.save(plt, fig, os.path.join(res, "step_ratios.png"), 90)
     rows = d["replay"]
@@ -590,12 +589,12 @@ def figures(res, d):
                     lw=1, label=f"paper, i7-7500U, {k} (published)")
         ax.axhline(1360, ls="--", color="red", alpha=0.4, lw=1)
         ax.text(0, 1360, "paper brute force 1,360 (i7)", fontsize=7, va="bottom")
-        ax.set_yscale("log")
-        ax.yaxis.set_major_formatter(FuncFormatter(lambda y, _: f"{y:,.0f}"))
-        ax.set_xticks(range(len(labels)))
-        ax.set_xticklabels(labels)
-        ax.set(xlabel="depth (paper: its level; quadphase: pyramid depth)", ylabel="circles under 20 ms per frame",
+        # The scale before the formatter: setting it resets it.
+        ax.set(yscale="log", xlabel="depth (paper: its level; quadphase: pyramid depth)",
+               ylabel="circles under 20 ms per frame",
                title="the paper's protocol: broadphase + circle test under 20 ms")
+        ax.yaxis.set_major_formatter(FuncFormatter(lambda y, _: f"{y:,.0f}"))
+        ax.set_xticks(range(len(labels)), labels)
         ax.grid(alpha=0.3, which="both")
         ax.legend(fontsize=7)
         plots["circles"] = "results/paper_table.png"
@@ -628,9 +627,8 @@ def markdown(info, data, levels, plots):
         L.append(f"- not built (Chipmunk2D / Bullet missing at configure time): {', '.join(info['engines_missing'])}")
     L += [""] + headline(d, by, rp, levels[0]) + step_section(d, by, plots) + phase_section(data, levels)
     L += replay_section(d, rp, plots) + levels_section(data, levels) + query_section(d) + circles_section(d, plots)
-    timing = info.get("timing", {})
     L += ["## Notes", "", TEXT["notes"],
-          "- Run time: " + ", ".join(f"{k} {v:.0f} s" for k, v in timing.items() if k != "total_s") + ".", ""]
+          "- Run time: " + ", ".join(f"{k} {v:.0f} s" for k, v in info["timing"].items() if k != "total_s") + ".", ""]
     return L
 
 
@@ -734,10 +732,9 @@ def headline(d, by, rp, level):
         L.append(f"| queries: the same hits as stock (hash of sorted fixture ids; closest hit and fraction) | "
                  f"{'DIFFERENT on ' + ', '.join(bad) if bad else 'identical on every workload'} | {met(not bad)} |")
     cz = {(r["engine"], r["threads"], str(r["depth"])): r["n_max"] for r in d["circles"]}
-    stock_c, brute_c = cz.get(("stock", 1, "auto")), cz.get(("pairwise", 1, "auto"))
     best_q = max([v for (e, t, dd), v in cz.items() if e == "quadtree"] or [0])
-    for target, n, goal, digits, ref in (("the stock tree's circles", stock_c, 8, 1, "stock"),
-                                         ("brute force", brute_c, 80, 0, "brute")):
+    for target, n, goal, digits, ref in (("the stock tree's circles", cz.get(("stock", 1, "auto")), 8, 1, "stock"),
+                                         ("brute force", cz.get(("pairwise", 1, "auto")), 80, 0, "brute")):
         if best_q and n:
             L.append(f"| paper's protocol: quadphase ≥{goal}× {target} | {best_q:,} vs {n:,} = "
                      f"{best_q / n:.{digits}f}× (reference here: {ref} ≈{REFERENCE['circles_' + ref]:,}) | "

@@ -41,7 +41,6 @@ def parse_args():
                     help="longer version: more repeats and steps, rain recorded until its pile has formed")
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--sections", default="a,b,c,d,e", help="subset of a,b,c,d,e (default: all)")
-    ap.add_argument("--note", default="", help="a sentence to print under the report's title")
     ap.add_argument("--report-only", action="store_true",
                     help="only rewrite the report from the last run's raw results in the work directory")
     ap.add_argument("--rerecord", action="store_true", help="record traces even when a matching one exists")
@@ -59,9 +58,8 @@ def parse_args():
     ap.add_argument("--thresholds", default=",".join(str(t) for t in THRESHOLDS))
     a = ap.parse_args()
     for name, quick, full, _ in PROFILE_OPTIONS:
-        key = name.replace("-", "_")
-        if getattr(a, key) is None:
-            setattr(a, key, full if a.full else quick)
+        if getattr(a, name.replace("-", "_")) is None:
+            setattr(a, name.replace("-", "_"), full if a.full else quick)
     a.sections = set(s.strip() for s in a.sections.split(",") if s.strip())
     a.depths = [d.strip() for d in a.depths.split(",") if d.strip()]
     a.thresholds = [int(t) for t in a.thresholds.split(",") if t.strip()]
@@ -136,8 +134,7 @@ class Results:
     ns_per_proxy = median_of(lambda r: r["ns_per_proxy_step"])
 
     def first(self, key, field, default=NAN):
-        runs = self.runs.get(key, [])
-        return runs[0].get(field, default) if runs else default
+        return self.runs.get(key, [{}])[0].get(field, default)  # (a key's list of runs is never empty)
 
     def ratios(self, key_num, key_den, field="step_ns"):
         return round_ratios(self.runs.get(key_num, []), self.runs.get(key_den, []), field)
@@ -288,11 +285,6 @@ def rain_note(j):
             f" — the pile is forming (the bottom row reaches the floor after about {fl} steps)")
 
 
-def tab(header, rows):
-    """report.table with the header cells given as one "a | b | c" string."""
-    return table(header.split(" | "), rows)
-
-
 def bold(values, best, f=str):
     return [f"**{f(v)}**" if v == best else f(v) for v in values]
 
@@ -307,7 +299,7 @@ def steps_label(j):
 
 
 def report_all(args, info, jobs, res, mismatches, timing):
-    md, csv_rows, sec = [], [], {}
+    md, csv_rows, sec = ["# Parallel pair generation: measurements\n"], [], {}
     for j in jobs:
         sec.setdefault(j["section"], []).append(j)
     dflt, sched = DEFAULT["threshold"], DEFAULT["schedule"]
@@ -334,12 +326,8 @@ def report_all(args, info, jobs, res, mismatches, timing):
                 parallel_regions_per_step=fmt(res.first(k, "parallel_calls", NAN) / max(1, res.first(k, "steps", 1)), 2)
                 if q else ""))
 
-    info.setdefault("quiet_samples", info.get("quiet", []))
-    md.append("# Parallel pair generation: measurements\n")
     md.append(TEXT["header"].format(full=" --full" if args.full else "", minutes=timing["total"] / 60,
                                     repeats=args.repeats, **timing) + "\n")
-    if args.note:
-        md.append(args.note + "\n")
     md += report.machine_section(info)[:-1]
     md.append(TEXT["rounds"].format(**vars(args)))
     omp = {(o["schedule"], o["blocks"]): o["us"] for o in res.omp}
@@ -354,7 +342,7 @@ def report_all(args, info, jobs, res, mismatches, timing):
         md.append("**MISMATCH: the quadtree's pair sets differ from stock Box2D's on "
                   + ", ".join(k for k, v in mismatches.items() if v) + ". These timings are not valid.**\n")
     md.append(TEXT["exactness"] + "\n")
-    md += tab("trace | UpdatePairs calls | quadtree configurations checked | result", [
+    md += table("trace | UpdatePairs calls | quadtree configurations checked | result", [
         [steps_label(j), res.stock_checks.get(j["name"], {}).get("calls_hashed", "–"),
          f"{sum(k[0] == j['name'] for k in res.checks)}" + (" + brute force" if j["brute"] else ""),
          "**MISMATCH**" if mismatches.get(j["name"]) else "identical"] for j in jobs]) + [""]
@@ -403,9 +391,9 @@ def report_all(args, info, jobs, res, mismatches, timing):
                          fmt(4 ** du / max(1, ck["proxies"]), 3), deepest, fmt(ck["cells"] / qn, 1),
                          fmt(ck["candidates"] / qn, 1), fmt(ck["overlaps"] / qn, 2), fmt(ck["pairs"] / qn, 2),
                          fmt(ck["queries"] / ja["steps"], 0), fmt(ck["memory_bytes"] / 2 ** 20, 1)])
-        md += tab("depth | leaf side (m) | leaf cells per proxy | deepest occupied level | cells visited per query "
-                  "(approx.) | candidates per query | overlaps per query | pairs per query | queries per step | "
-                  "memory (MB)", rows) + [""]
+        md += table("depth | leaf side (m) | leaf cells per proxy | deepest occupied level | cells visited per query "
+                    "(approx.) | candidates per query | overlaps per query | pairs per query | queries per step | "
+                    "memory (MB)", rows) + [""]
         md.append(TEXT["paper"] + "\n")
         for cpu, t in paper.TABLES.items():
             md += table([cpu] + [str(d) for d in paper.DEPTHS], [[row] + bold(v, max(v)) for row, v in t.items()])
@@ -439,10 +427,10 @@ def report_all(args, info, jobs, res, mismatches, timing):
         notes = [f"{j['display']}: {j['warmup']} warm-up steps (untimed), then {j['steps']} timed steps"
                  + (rain_note(j) if j["scene"] == "rain" else "") for j in sec["b"]]
         md.append(TEXT["b"].format(notes="; ".join(notes), Sched=sched.capitalize(), dflt=dflt) + "\n")
-        md += tab("trace | proxies | 1 thread: ms/step = FindPairs + outside | 2 threads: ms/step = FindPairs + "
-                  "outside | FindPairs speed-up | grid maintenance, ms/step: 1 → 2 threads | whole-work speed-up | "
-                  "outside share at 1 thread (m) | serial fraction, whole (Karp–Flatt) | serial fraction, FindPairs "
-                  "(Karp–Flatt, e_F)", rows) + [""]
+        md += table("trace | proxies | 1 thread: ms/step = FindPairs + outside | 2 threads: ms/step = FindPairs + "
+                    "outside | FindPairs speed-up | grid maintenance, ms/step: 1 → 2 threads | whole-work speed-up | "
+                    "outside share at 1 thread (m) | serial fraction, whole (Karp–Flatt) | serial fraction, "
+                    "FindPairs (Karp–Flatt, e_F)", rows) + [""]
         if static_rows:
             md.append(TEXT["static"].format(sched=sched, rows="; ".join(static_rows)) + "\n")
         md.append(analysis_b(amdahl_rows))
@@ -463,8 +451,9 @@ def report_all(args, info, jobs, res, mismatches, timing):
                          res.checks.get(k1, {}).get("max_buffered", "–"), int(res.first(k2, "parallel_calls", 0)),
                          f"{fmt(s0 * 1e3, 1)} µs/step ({fmt(s0 / s1, 2)}×)"])
             csv_add("c-small", j, cfg(1), cfg(2), cfg(2, threshold=0))
-        md += tab("trace | 1 thread µs/step | 2 threads µs/step | 2 threads / 1 thread | largest UpdatePairs call "
-                  "(buffered proxies) | parallel regions opened | for comparison: 2 threads, threshold 0", rows) + [""]
+        md += table("trace | 1 thread µs/step | 2 threads µs/step | 2 threads / 1 thread | largest UpdatePairs "
+                    "call (buffered proxies) | parallel regions opened | for comparison: 2 threads, threshold 0",
+                    rows) + [""]
     if sweeps:
         md.append(TEXT["sweep"].format(sched=sched) + "\n")
         rows = [["1 thread (reference)"] + [f"{fmt(res.step_ms(key(j, 1)), 3)} ({fmt(res.find_ms(key(j, 1)), 3)})"
@@ -488,18 +477,16 @@ def report_all(args, info, jobs, res, mismatches, timing):
              ck.get("max_buffered", "–")] for j, ck in zip(sweeps, cks)]) + [""]
     per_call = [(j, t) for j, t in ((j, per_call_rows(res, j)) for j in smalls + sweeps) if t is not None]
     if per_call:
-        md.append(TEXT["per_call"] + "\n")
-        md += tab("trace | buffered proxies per call | calls per step | serial µs/call | parallel µs/call | "
-                  "serial / parallel", [[j["display"], r["label"], fmt(r["per_step"], 2), fmt(r["serial"], 1),
-                                         fmt(r["parallel"], 1), fmt(r["ratio"], 2)] for j, t in per_call for r in t])
-        md.append("")
+        md += [TEXT["per_call"] + "\n"] + table("trace | buffered proxies per call | calls per step | serial µs/call "
+                                                 "| parallel µs/call | serial / parallel", [
+            [j["display"], r["label"], fmt(r["per_step"], 2), fmt(r["serial"], 1), fmt(r["parallel"], 1),
+             fmt(r["ratio"], 2)] for j, t in per_call for r in t]) + [""]
     if smalls or sweeps:
         md.append(analysis_c(res, sweeps, smalls, args.thresholds, per_call))
 
     # ---------------- (d) ----------------
     if "d" in args.sections:
-        md.append("## (d) Stock Box2D 2.4.1 `b2BroadPhase` on the same traces\n")
-        md.append(TEXT["d"] + "\n")
+        md += ["## (d) Stock Box2D 2.4.1 `b2BroadPhase` on the same traces\n", TEXT["d"] + "\n"]
         rows = []
         for j in jobs:
             ks = (j["name"], "stock")
@@ -508,8 +495,8 @@ def report_all(args, info, jobs, res, mismatches, timing):
                          f"**{fmt(s / q1, 1)}×**", f"**{fmt(s / q2, 1)}×**",
                          fmt(res.ns_per_proxy((j["name"], "null")), 1)])
             csv_add("d", j, "stock", "null")
-        md += tab("trace | proxies | stock ns/proxy/step | quadtree, 1 thread | quadtree, 2 threads | stock / "
-                  "quadtree (1 thread) | stock / quadtree (2 threads) | replay overhead ns/proxy/step", rows) + [""]
+        md += table("trace | proxies | stock ns/proxy/step | quadtree, 1 thread | quadtree, 2 threads | stock / "
+                    "quadtree (1 thread) | stock / quadtree (2 threads) | replay overhead ns/proxy/step", rows) + [""]
 
     # ---------------- (e) ----------------
     if "e" in args.sections and amdahl_rows:
@@ -532,8 +519,7 @@ def analysis_a(res, na, depths, auto_used, omp64, gauge, gauge_find):
     """The numbers behind table (a); how to read them: bench/README.md, section (a)."""
     grid = {(th, sch, d): res.step_ms(res.key(na, cfg(th, sch, d))) for th, sch in ROWS_A for d in depths}
     fgrid = {k: res.find_ms(res.key(na, cfg(*k))) for k in grid}
-    valid = {k: v for k, v in grid.items() if not math.isnan(v)}
-    fvalid = {k: v for k, v in fgrid.items() if not math.isnan(v)}
+    valid, fvalid = ({k: v for k, v in g.items() if not math.isnan(v)} for g in (grid, fgrid))
     if not valid or not fvalid:
         return ""
     name = lambda k: ("sequential" if k[0] == 1 else k[1]) + f" depth {k[2]}"  # noqa: E731
@@ -651,8 +637,8 @@ def analysis_e(rows):
         out.append([r["name"], fmt(r["share"], 2), fmt(r["ef"], 2), fmt(s, 2),
                     " / ".join(fmt(amdahl(s, p), 1) for p in (4, 8, 16)), fmt(s2, 2),
                     " / ".join(fmt(amdahl(s2, p), 1) for p in (4, 8, 16)), fmt((r["buffered"] or 0) / 64.0, 0)])
-    return "\n".join(tab("trace | m | e_F | s | projected 4 / 8 / 16 threads | s if the outside work were parallel | "
-                         "projected 4 / 8 / 16 threads | blocks of 64 in the largest call", out)) + "\n"
+    return "\n".join(table("trace | m | e_F | s | projected 4 / 8 / 16 threads | s if the outside work were parallel | "
+                           "projected 4 / 8 / 16 threads | blocks of 64 in the largest call", out)) + "\n"
 
 
 def figure(path, res, args, rows, ja):

@@ -26,9 +26,8 @@ while [[ $# -gt 0 ]]; do
         *) args+=("$1"); shift ;;
     esac
 done
-case "${opt:-O2}" in
-    O2) levels=(O2) ;;
-    O3) levels=(O3) ;;
+case "${opt:=O2}" in
+    O2|O3) levels=("$opt") ;;
     both) levels=(O2 O3) ;;
     *) echo "bench/run.sh: --opt must be O2, O3 or both, got '$opt'" >&2; exit 2 ;;
 esac

@@ -3,7 +3,6 @@
 import hashlib
 import os
 import platform
-import shutil
 import subprocess
 import time
 
@@ -44,16 +43,12 @@ def sha256_file(path):
 def box2d_checksum(build_dir, cache):
     """sha256 of Box2D's orig tarball when the build tree has one (or was configured with one), else a sha256 over
     the sorted (relative path, sha256 of the contents) of every file of the source directory."""
-    for root, _, files in os.walk(build_dir):
-        for name in files:
-            if name.startswith("box2d_") and name.endswith(".orig.tar.gz"):
-                path = os.path.join(root, name)
-                return {"kind": "sha256 of the orig tarball in the build tree", "path": path,
-                        "sha256": sha256_file(path)}
-    if cache.get("QUADPHASE_BOX2D_TARBALL"):
-        path = cache["QUADPHASE_BOX2D_TARBALL"]
-        return {"kind": "sha256 of the orig tarball the build was configured with", "path": path,
-                "sha256": sha256_file(path)}
+    in_tree = next((os.path.join(root, name) for root, _, files in os.walk(build_dir) for name in files
+                    if name.startswith("box2d_") and name.endswith(".orig.tar.gz")), None)
+    configured = cache.get("QUADPHASE_BOX2D_TARBALL")
+    for path, where in ((in_tree, "in the build tree"), (configured, "the build was configured with")):
+        if path:
+            return {"kind": f"sha256 of the orig tarball {where}", "path": path, "sha256": sha256_file(path)}
     src = cache.get("QUADPHASE_BOX2D_SOURCE_DIR", "")
     if not src or not os.path.isdir(src):
         return {"kind": "unknown (no tarball, no source directory found)", "path": "", "sha256": ""}
@@ -77,11 +72,10 @@ def describe(build_dir=None):
             info["cpu"] = next(l.split(":", 1)[1].strip() for l in f if l.startswith("model name"))
     except (OSError, StopIteration):
         pass
-    if shutil.which("lscpu"):
-        for line in _out(["lscpu"]).splitlines():
-            k, _, v = line.partition(":")
-            if k.strip() in LSCPU_KEYS:
-                info[k.strip()] = v.strip()
+    for line in _out(["lscpu"]).splitlines():  # "" when lscpu is missing
+        k, _, v = line.partition(":")
+        if k.strip() in LSCPU_KEYS:
+            info[k.strip()] = v.strip()
     head = _out(["git", "-C", REPO, "log", "-1", "--format=%h %s"])
     dirty = _out(["git", "-C", REPO, "status", "--porcelain", "--", "plugin"])
     info["git"] = (head or "unknown") + (" (plus uncommitted changes in plugin/)" if dirty else "")

@@ -53,7 +53,9 @@ def times(x, d=2):
 
 
 def table(header, rows):
-    """Markdown lines of a table: the header cells, the separator, one line per row of cells."""
+    """Markdown lines of a table: the header cells (a list, or one "a | b | c" string), the separator, one line per
+    row of cells."""
+    header = header.split(" | ") if isinstance(header, str) else header
     out = ["| " + " | ".join(header) + " |", "|---" * len(header) + "|"]
     out += ["| " + " | ".join(str(c) for c in r) + " |" for r in rows]
     return out
@@ -62,9 +64,7 @@ def table(header, rows):
 def write_csv(path, rows, fields=None):
     """One row per dict; `fields` defaults to every key, in the order first seen."""
     if fields is None:
-        fields = []
-        for r in rows:
-            fields += [k for k in r if k not in fields]
+        fields = list(dict.fromkeys(k for r in rows for k in r))
     with open(path, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=fields, extrasaction="ignore")
         w.writeheader()

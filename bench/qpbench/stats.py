@@ -18,8 +18,7 @@ def ratio(a, b):
 def round_ratios(num, den, field):
     """Per-round ratios num/den of two lists of runs (dicts with "rep_round"): rounds pair up because every
     round ran both."""
-    a = {(r["rep_round"], r.get("rep", 0)): r[field] for r in num if "rep_round" in r}
-    b = {(r["rep_round"], r.get("rep", 0)): r[field] for r in den if "rep_round" in r}
+    a, b = ({(r["rep_round"], r.get("rep", 0)): r[field] for r in runs if "rep_round" in r} for runs in (num, den))
     return [a[k] / b[k] for k in sorted(a) if k in b and b[k] > 0]
 
 
