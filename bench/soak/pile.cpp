@@ -39,21 +39,17 @@ int main(int argc, char** argv)
 {
     const qpbench::Args args(argc, argv, "qp-pile", {"counts", "rounds"});
     args.Check(true, "%s", kUsage);
-    std::vector<int> counts = {1000, 2000, 4000, 8000};
-    if (args.Has("counts"))
+    std::vector<int> counts;
+    std::stringstream list(args.Get("counts", "1000,2000,4000,8000"));
+    std::string item;
+    while (std::getline(list, item, ','))
     {
-        counts.clear();
-        std::stringstream list(args.Get("counts"));
-        std::string item;
-        while (std::getline(list, item, ','))
+        const int n = std::atoi(item.c_str());
+        if (n < 2 || n > 100000)
         {
-            const int n = std::atoi(item.c_str());
-            if (n < 2 || n > 100000)
-            {
-                qpbench::Die(2, "qp-pile: counts must be in [2, 100000]\n%s", kUsage);
-            }
-            counts.push_back(n);
+            qpbench::Die(2, "qp-pile: counts must be in [2, 100000]\n%s", kUsage);
         }
+        counts.push_back(n);
     }
     const int rounds = int(args.GetIntIn("rounds", 7, 1, 1000));
 
