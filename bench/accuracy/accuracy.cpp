@@ -142,20 +142,13 @@ struct Relative
     return {automatic, static_cast<int>(value)};
 }
 
-// The box around every fixture child's tight AABB, and the median of their extents (m).
-struct Geometry
+// The box around all the `boxes`; zeros when there are none.
+[[maybe_unused]] b2AABB Bounds(const std::vector<qa::ChildBox>& boxes)
 {
-    b2AABB bounds;
-    float medianExtent;
-};
-
-[[maybe_unused]] Geometry MeasureGeometry(const b2World& world)
-{
-    const std::vector<qa::ChildBox> boxes = qa::ChildBoxes(world);
-    Geometry g{boxes.empty() ? b2AABB() : boxes[0].box, qa::MedianExtent(boxes)}; // b2AABB(): zeros
+    b2AABB bounds = boxes.empty() ? b2AABB() : boxes[0].box; // b2AABB(): value-initialized, zeros
     for (const qa::ChildBox& c : boxes)
-        g.bounds.Combine(c.box);
-    return g;
+        bounds.Combine(c.box);
+    return bounds;
 }
 
 // qs::BuildScene, exiting with its message (a size outside the scene's range).
@@ -213,22 +206,23 @@ int main(int argc, char** argv)
         settings.levels = 1;
         settings.threads = 1;
         qs::Scene probe = MakeScene(*id, size, o.seed);
-        Geometry g = MeasureGeometry(*probe.world);
+        b2AABB b = Bounds(qa::ChildBoxes(*probe.world));
         for (int i = 0; i < kProbeSteps; ++i)
             qs::StepScene(probe);
-        const Geometry later = MeasureGeometry(*probe.world);
-        g.bounds.Combine(later.bounds);
-        g.medianExtent = later.medianExtent; // the population that is simulated most of the time
-        const float mx = 0.05f * (g.bounds.upperBound.x - g.bounds.lowerBound.x) + 1.0f;
-        const float my = 0.05f * (g.bounds.upperBound.y - g.bounds.lowerBound.y) + 1.0f;
-        settings.bounds = {g.bounds.lowerBound.x - mx, g.bounds.lowerBound.y - my, g.bounds.upperBound.x + mx,
-                           g.bounds.upperBound.y + my};
+        const std::vector<qa::ChildBox> later = qa::ChildBoxes(*probe.world);
+        b.Combine(Bounds(later));
+        // The median extent after the probe steps: the population that is simulated most of the time.
+        const float medianExtent = qa::MedianExtent(later);
+        const float mx = 0.05f * (b.upperBound.x - b.lowerBound.x) + 1.0f;
+        const float my = 0.05f * (b.upperBound.y - b.lowerBound.y) + 1.0f;
+        settings.bounds = {b.lowerBound.x - mx, b.lowerBound.y - my, b.upperBound.x + mx,
+                           b.upperBound.y + my};
         // Automatic level count, by quadphase's rule of thumb: leaf side about twice the median fat box
         // (tight extent + 2 x b2_aabbExtension) along the longer side of the bounds, to the nearest power of
         // two.
         const float side = std::max(settings.bounds.maxX - settings.bounds.minX,
                                     settings.bounds.maxY - settings.bounds.minY);
-        const float fat = g.medianExtent + 2.0f * b2_aabbExtension;
+        const float fat = medianExtent + 2.0f * b2_aabbExtension;
         autoLevels = 1 + static_cast<int>(std::lround(std::log2(std::max(1.0f, side / (2.0f * fat)))));
         autoLevels = std::clamp(autoLevels, Paper::kMinLevels, Paper::kMaxLevels);
         levelsUsed = ParseRelative("--levels", o.levels)

@@ -34,14 +34,14 @@ constexpr const char* kUsage =
 long ProcStatusKiB(const char* field)
 {
     long kib = -1;
-    std::FILE* f = std::fopen("/proc/self/status", "r");
-    char line[256];
-    while (f != nullptr && kib < 0 && std::fgets(line, sizeof(line), f) != nullptr)
+    if (std::FILE* f = std::fopen("/proc/self/status", "r"))
     {
-        kib = std::strncmp(line, field, std::strlen(field)) == 0 ? std::atol(line + std::strlen(field)) : -1;
-    }
-    if (f != nullptr)
-    {
+        char line[256];
+        while (kib < 0 && std::fgets(line, sizeof(line), f) != nullptr)
+        {
+            kib = std::strncmp(line, field, std::strlen(field)) == 0 ? std::atol(line + std::strlen(field))
+                                                                     : -1;
+        }
         std::fclose(f);
     }
     return kib;
