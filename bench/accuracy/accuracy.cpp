@@ -11,7 +11,6 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
-#include <functional>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -42,21 +41,23 @@ namespace qa = quadphase::accuracy;
 // The scenes' per-step hooks (spawning, relaunching) count steps of the scenes' own 60 Hz clock.
 constexpr int kSceneHz = 60;
 
+// The command line; members are read in declaration order, `args` first.
 struct Options
 {
-    std::string scene;
-    int size = -1;
-    uint32_t seed = 1;
-    double seconds = 10.0;
-    int hz = 60;
-    int velocityIterations = 8;
-    int positionIterations = 3;
-    std::string depth = "auto";  // quadphase: auto | N | auto+K | auto-K
-    std::string levels = "auto"; // paper: auto | N | auto+K | auto-K
-    int threads = 1;
-    int checkEvery = 1;
-    double sampleEvery = 0.5;
-    std::string positionsOut;
+    const qpbench::Args& args;
+    std::string scene = args.Get("scene");
+    int size = int(args.GetInt("size", -1));
+    uint32_t seed = uint32_t(args.GetInt("seed", 1));
+    double seconds = args.GetDouble("seconds", 10.0);
+    int hz = int(args.GetInt("hz", 60));
+    int velocityIterations = int(args.GetInt("vel-iters", 8));
+    int positionIterations = int(args.GetInt("pos-iters", 3));
+    std::string depth = args.Get("depth", "auto");   // quadphase: auto | N | auto+K | auto-K
+    std::string levels = args.Get("levels", "auto"); // paper: auto | N | auto+K | auto-K
+    int threads = int(args.GetInt("threads", 1));
+    int checkEvery = int(args.GetInt("check-every", 1));
+    double sampleEvery = args.GetDouble("sample-every", 0.5);
+    std::string positionsOut = args.Get("positions-out");
 };
 
 [[noreturn]] void Fail(const std::string& message)
@@ -64,19 +65,11 @@ struct Options
     qpbench::Die(2, "qp-accuracy-%s: %s\n", kBuild, message.c_str());
 }
 
-int ParseInt(const std::string& flag, const std::string& text)
+qpbench::Args ParseArgs(int argc, char** argv)
 {
-    long value = 0;
-    if (!qpbench::ParseLong(text, value) || value < -1000000000L || value > 1000000000L)
-        Fail(flag + ": not an integer: '" + text + "'");
-    return static_cast<int>(value);
-}
-
-Options ParseOptions(int argc, char** argv)
-{
-    const qpbench::Args args(argc, argv, std::string("qp-accuracy-") + kBuild,
-                             {"scene", "size", "seed", "seconds", "hz", "vel-iters", "pos-iters", "threads",
-                              "depth", "levels", "check-every", "sample-every", "positions-out"});
+    qpbench::Args args(argc, argv, std::string("qp-accuracy-") + kBuild,
+                       {"scene", "size", "seed", "seconds", "hz", "vel-iters", "pos-iters", "threads",
+                        "depth", "levels", "check-every", "sample-every", "positions-out"});
     args.Check(true,
                "qp-accuracy-%s --scene NAME [options]   (one JSON line on stdout)\n"
                "  --scene NAME         %s\n"
@@ -94,20 +87,11 @@ Options ParseOptions(int argc, char** argv)
                "  --sample-every S     positions sampling period in simulated seconds (default 0.5)\n"
                "  --positions-out F    write the dynamic bodies' positions at every sample time to F\n",
                kBuild, qs::SceneNameList().c_str());
-    Options o;
-    o.scene = args.Get("scene");
-    o.size = int(args.GetInt("size", o.size));
-    o.seed = uint32_t(args.GetInt("seed", o.seed));
-    o.seconds = args.GetDouble("seconds", o.seconds);
-    o.hz = int(args.GetInt("hz", o.hz));
-    o.velocityIterations = int(args.GetInt("vel-iters", o.velocityIterations));
-    o.positionIterations = int(args.GetInt("pos-iters", o.positionIterations));
-    o.threads = int(args.GetInt("threads", o.threads));
-    o.depth = args.Get("depth", o.depth);
-    o.levels = args.Get("levels", o.levels);
-    o.checkEvery = int(args.GetInt("check-every", o.checkEvery));
-    o.sampleEvery = args.GetDouble("sample-every", o.sampleEvery);
-    o.positionsOut = args.Get("positions-out");
+    return args;
+}
+
+void CheckOptions(const Options& o)
+{
     if (o.scene.empty())
         Fail("--scene is required (" + qs::SceneNameList() + ")");
     if (o.seconds <= 0.0)
@@ -124,7 +108,6 @@ Options ParseOptions(int argc, char** argv)
     if (o.sampleEvery <= 0.0 || std::fabs(perSample - std::round(perSample)) > 1e-9 ||
         std::round(perSample) < 1)
         Fail("--sample-every times --hz must be a positive whole number of steps");
-    return o;
 }
 
 // "auto" -> {true, 0}; "auto+2" -> {true, 2}; "7" -> {false, 7}.
@@ -147,54 +130,25 @@ struct Relative
 
 [[maybe_unused]] Relative ParseRelative(const std::string& flag, const std::string& text)
 {
-    if (text.rfind("auto", 0) == 0)
-    {
-        const std::string rest = text.substr(4);
-        if (rest.empty())
-            return {true, 0};
-        if (rest[0] != '+' && rest[0] != '-')
-            Fail(flag + ": expected auto, auto+K, auto-K or a number, got '" + text + "'");
-        return {true, ParseInt(flag, rest)};
-    }
-    return {false, ParseInt(flag, text)};
+    const bool automatic = text.rfind("auto", 0) == 0;
+    const std::string rest = automatic ? text.substr(4) : text;
+    if (automatic && rest.empty())
+        return {true, 0};
+    if (automatic && rest[0] != '+' && rest[0] != '-')
+        Fail(flag + ": expected auto, auto+K, auto-K or a number, got '" + text + "'");
+    long value = 0;
+    if (!qpbench::ParseLong(rest, value) || value < -1000000000L || value > 1000000000L)
+        Fail(flag + ": not an integer: '" + rest + "'");
+    return {automatic, static_cast<int>(value)};
 }
 
-struct Geometry
+// The box around all the `boxes`; zeros when there are none.
+[[maybe_unused]] b2AABB Bounds(const std::vector<qa::ChildBox>& boxes)
 {
-    b2AABB bounds;
-    float medianExtent; // of the tight AABBs, m
-};
-
-[[maybe_unused]] Geometry MeasureGeometry(const b2World& world)
-{
-    Geometry g{};
-    g.bounds.lowerBound.Set(0.0f, 0.0f);
-    g.bounds.upperBound.Set(0.0f, 0.0f);
-    std::vector<float> extents; // one per box, so empty until the first
-    for (const b2Body* body = world.GetBodyList(); body != nullptr; body = body->GetNext())
-    {
-        for (const b2Fixture* f = body->GetFixtureList(); f != nullptr; f = f->GetNext())
-        {
-            for (int32 c = 0; c < f->GetShape()->GetChildCount(); ++c)
-            {
-                b2AABB box;
-                f->GetShape()->ComputeAABB(&box, body->GetTransform(), c);
-                if (extents.empty())
-                    g.bounds = box;
-                else
-                    g.bounds.Combine(box);
-                extents.push_back(
-                    std::max(box.upperBound.x - box.lowerBound.x, box.upperBound.y - box.lowerBound.y));
-            }
-        }
-    }
-    if (!extents.empty())
-    {
-        std::nth_element(extents.begin(), extents.begin() + static_cast<std::ptrdiff_t>(extents.size() / 2),
-                         extents.end());
-        g.medianExtent = extents[extents.size() / 2];
-    }
-    return g;
+    b2AABB bounds = boxes.empty() ? b2AABB() : boxes[0].box; // b2AABB(): value-initialized, zeros
+    for (const qa::ChildBox& c : boxes)
+        bounds.Combine(c.box);
+    return bounds;
 }
 
 // qs::BuildScene, exiting with its message (a size outside the scene's range).
@@ -226,7 +180,9 @@ const b2Body* TopBody(const b2World& world)
 
 int main(int argc, char** argv)
 {
-    const Options o = ParseOptions(argc, argv);
+    const qpbench::Args args = ParseArgs(argc, argv);
+    const Options o{args};
+    CheckOptions(o);
     const std::optional<qs::SceneId> id = qs::ParseSceneName(o.scene);
     if (!id)
         Fail("unknown scene '" + o.scene + "' (" + qs::SceneNameList() + ")");
@@ -246,37 +202,33 @@ int main(int argc, char** argv)
         // O(proxies^2)).
         constexpr int kProbeSteps = 250;
         using Paper = quadphase::bench::PaperQuadtreeBroadPhase;
-        {
-            quadphase::bench::PaperSettings exact;
-            exact.levels = 1;
-            exact.threads = 1;
-            quadphase::bench::SetPaperSettings(exact);
-        }
+        quadphase::bench::PaperSettings& settings = quadphase::bench::g_paperSettings;
+        settings.levels = 1;
+        settings.threads = 1;
         qs::Scene probe = MakeScene(*id, size, o.seed);
-        Geometry g = MeasureGeometry(*probe.world);
+        b2AABB b = Bounds(qa::ChildBoxes(*probe.world));
         for (int i = 0; i < kProbeSteps; ++i)
             qs::StepScene(probe);
-        const Geometry later = MeasureGeometry(*probe.world);
-        g.bounds.Combine(later.bounds);
-        g.medianExtent = later.medianExtent; // the population that is simulated most of the time
-        const float mx = 0.05f * (g.bounds.upperBound.x - g.bounds.lowerBound.x) + 1.0f;
-        const float my = 0.05f * (g.bounds.upperBound.y - g.bounds.lowerBound.y) + 1.0f;
-        quadphase::bench::PaperSettings settings;
-        settings.bounds = {g.bounds.lowerBound.x - mx, g.bounds.lowerBound.y - my, g.bounds.upperBound.x + mx,
-                           g.bounds.upperBound.y + my};
+        const std::vector<qa::ChildBox> later = qa::ChildBoxes(*probe.world);
+        b.Combine(Bounds(later));
+        // The median extent after the probe steps: the population that is simulated most of the time.
+        const float medianExtent = qa::MedianExtent(later);
+        const float mx = 0.05f * (b.upperBound.x - b.lowerBound.x) + 1.0f;
+        const float my = 0.05f * (b.upperBound.y - b.lowerBound.y) + 1.0f;
+        settings.bounds = {b.lowerBound.x - mx, b.lowerBound.y - my, b.upperBound.x + mx,
+                           b.upperBound.y + my};
         // Automatic level count, by quadphase's rule of thumb: leaf side about twice the median fat box
         // (tight extent + 2 x b2_aabbExtension) along the longer side of the bounds, to the nearest power of
         // two.
         const float side = std::max(settings.bounds.maxX - settings.bounds.minX,
                                     settings.bounds.maxY - settings.bounds.minY);
-        const float fat = g.medianExtent + 2.0f * b2_aabbExtension;
+        const float fat = medianExtent + 2.0f * b2_aabbExtension;
         autoLevels = 1 + static_cast<int>(std::lround(std::log2(std::max(1.0f, side / (2.0f * fat)))));
         autoLevels = std::clamp(autoLevels, Paper::kMinLevels, Paper::kMaxLevels);
         levelsUsed = ParseRelative("--levels", o.levels)
                          .Resolve("--levels " + o.levels, autoLevels, Paper::kMinLevels, Paper::kMaxLevels);
         settings.levels = levelsUsed;
         settings.threads = o.threads;
-        quadphase::bench::SetPaperSettings(settings);
         char buffer[160];
         std::snprintf(buffer, sizeof buffer, "[%.6g, %.6g, %.6g, %.6g]", settings.bounds.minX,
                       settings.bounds.minY, settings.bounds.maxX, settings.bounds.maxY);
@@ -337,8 +289,7 @@ int main(int argc, char** argv)
     int64_t missedStatic = 0; // missed pairs with a static body (grounds, walls, tiles)
     // Missed pairs of the previous check: a pair that stays missed for many checks (two bodies passing
     // through each other) is counted once in missedNew, at the check where it starts being missed.
-    using Child = std::pair<const b2Fixture*, int32>;
-    std::set<std::pair<Child, Child>> previousMissed;
+    std::set<qa::ChildPair> previousMissed;
     double penMax = 0.0, penSum = 0.0;
     int64_t penPoints = 0;
     double checkSeconds = 0.0;
@@ -355,15 +306,13 @@ int main(int argc, char** argv)
         if (n % o.checkEvery == 0)
         {
             const qa::MissedContacts m = qa::CheckMissedContacts(world, true);
-            std::set<std::pair<Child, Child>> nowMissed;
+            std::set<qa::ChildPair> nowMissed(m.missedPairs.begin(),
+                                              m.missedPairs.end()); // each pair ordered
             for (const auto& pair : m.missedPairs)
             {
                 if (pair.first.fixture->GetBody()->GetType() == b2_staticBody ||
                     pair.second.fixture->GetBody()->GetType() == b2_staticBody)
                     ++missedStatic;
-                const Child a{pair.first.fixture, pair.first.child};
-                const Child b{pair.second.fixture, pair.second.child};
-                nowMissed.insert(std::less<Child>()(a, b) ? std::make_pair(a, b) : std::make_pair(b, a));
             }
             for (const auto& pair : nowMissed)
                 missedNew += previousMissed.count(pair) == 0 ? 1 : 0;

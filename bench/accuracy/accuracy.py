@@ -261,6 +261,14 @@ def config_text(r):
     return "stock tree"
 
 
+def missed_cell(rows, key, scene):
+    """Missed contacts of a configuration in a scene at the default step settings, and their range at the others."""
+    rs = [r for r in rows if r["scene"] == scene and r["config"] == key]
+    d = [r["missed"] for r in rs if step_of(r) == DEFAULT_STEP]
+    others = [r["missed"] for r in rs if step_of(r) != DEFAULT_STEP]
+    return (str(d[0]) if d else "–") + (" (%d–%d)" % (min(others), max(others)) if others else "")
+
+
 def write_report(rows, meta, info, scenes, md_path, png_rel, reading_path, command):
     L = ["# Error against run time", "", TEXT["header"].format(command=command, finished=meta.get("finished", "?"),
                                                               minutes=meta["elapsed"] / 60.0)]
@@ -276,16 +284,9 @@ def write_report(rows, meta, info, scenes, md_path, png_rel, reading_path, comma
                                                                if r["scene"] == scene and r["config"] == "stock"), "?")]
                 for scene, size, seconds in scenes])
     L += ["", "## What each number means", "", TEXT["meanings"].format(reference=step_label(REFERENCE_STEP)),
-          "", "## Missed contacts per configuration", "", TEXT["missed"], "",
-          "| configuration | " + " | ".join(s[0] for s in scenes) + " |", "|---|" + "---|" * len(scenes)]
-    for key, build, args, family, label in BROADPHASES:
-        cells = []
-        for scene, size, seconds in scenes:
-            rs = [r for r in rows if r["scene"] == scene and r["config"] == key]
-            d = [r["missed"] for r in rs if step_of(r) == DEFAULT_STEP]
-            others = [r["missed"] for r in rs if step_of(r) != DEFAULT_STEP]
-            cells.append((str(d[0]) if d else "–") + (" (%d–%d)" % (min(others), max(others)) if others else ""))
-        L.append("| %s | %s |" % (label, " | ".join(cells)))
+          "", "## Missed contacts per configuration", "", TEXT["missed"], ""]
+    L += table(["configuration"] + [s[0] for s in scenes],
+               [[label] + [missed_cell(rows, key, s[0]) for s in scenes] for key, _, _, _, label in BROADPHASES])
     exact = [r for r in rows if r["build"] in ("stock", "quadphase")]
     paper = [r for r in rows if r["build"] == "paper"]
     L += ["", TEXT["totals"].format(

@@ -2,64 +2,34 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 #include <unordered_map>
-#include <unordered_set>
-#include <utility>
 
 namespace quadphase::accuracy
 {
 namespace
 {
 
-struct Proxy
+ChildPair MakePair(ChildRef x, ChildRef y)
 {
-    b2AABB box;
-    const b2Fixture* fixture;
-    const b2Body* body;
-    int32 child;
-    bool dynamic;
-};
-
-// A fixture child, ordered by (fixture address, child index), and a pair of them (smaller first).
-using ChildKey = std::pair<uintptr_t, int32>;
-using PairKey = std::pair<ChildKey, ChildKey>;
-
-ChildKey KeyOf(const b2Fixture* fixture, int32 child)
-{
-    return ChildKey{reinterpret_cast<uintptr_t>(fixture), child};
-}
-
-struct PairKeyHash
-{
-    size_t operator()(const PairKey& k) const
-    {
-        uint64_t h = static_cast<uint64_t>(k.first.first) * 0x9E3779B97F4A7C15ull;
-        h ^= static_cast<uint64_t>(static_cast<uint32_t>(k.first.second)) + 0x632BE59BD9B4E019ull + (h << 6) +
-             (h >> 2);
-        h ^= static_cast<uint64_t>(k.second.first) * 0xC2B2AE3D27D4EB4Full + (h << 6) + (h >> 2);
-        h ^= static_cast<uint64_t>(static_cast<uint32_t>(k.second.second)) + (h << 6) + (h >> 2);
-        return static_cast<size_t>(h);
-    }
-};
-
-PairKey MakePairKey(ChildKey x, ChildKey y)
-{
-    return x < y ? PairKey{x, y} : PairKey{y, x};
+    return x < y ? ChildPair{x, y} : ChildPair{y, x};
 }
 
 // b2ContactManager::AddPair's rules (b2_contact_manager.cpp), without the broadphase: same body, body types
 // and joints (b2Body::ShouldCollide), the world's contact filter.
-bool BoxShouldCollide(const b2World& world, const Proxy& a, const Proxy& b)
+bool BoxShouldCollide(const b2World& world, const ChildBox& a, const ChildBox& b)
 {
-    if (a.body == b.body)
+    const b2Body* bodyA = a.fixture->GetBody();
+    const b2Body* bodyB = b.fixture->GetBody();
+    if (bodyA == bodyB)
     {
         return false;
     }
     // b2Body::ShouldCollide (private): at least one body dynamic (checked by the caller), and no joint
     // between the two bodies with collideConnected = false.
-    for (const b2JointEdge* edge = a.body->GetJointList(); edge != nullptr; edge = edge->next)
+    for (const b2JointEdge* edge = bodyA->GetJointList(); edge != nullptr; edge = edge->next)
     {
-        if (edge->other == b.body && !edge->joint->GetCollideConnected())
+        if (edge->other == bodyB && !edge->joint->GetCollideConnected())
         {
             return false;
         }
@@ -69,20 +39,18 @@ bool BoxShouldCollide(const b2World& world, const Proxy& a, const Proxy& b)
            filter->ShouldCollide(const_cast<b2Fixture*>(a.fixture), const_cast<b2Fixture*>(b.fixture));
 }
 
-bool ShapesOverlap(const Proxy& a, const Proxy& b)
+bool ShapesOverlap(const ChildBox& a, const ChildBox& b)
 {
     return b2TestOverlap(a.box, b.box) &&
            b2TestOverlap(a.fixture->GetShape(), a.child, b.fixture->GetShape(), b.child,
-                         a.body->GetTransform(), b.body->GetTransform());
+                         a.fixture->GetBody()->GetTransform(), b.fixture->GetBody()->GetTransform());
 }
 
 } // namespace
 
-MissedContacts CheckMissedContacts(const b2World& world, bool keepPairs)
+std::vector<ChildBox> ChildBoxes(const b2World& world)
 {
-    MissedContacts result;
-
-    std::vector<Proxy> proxies;
+    std::vector<ChildBox> boxes;
     for (const b2Body* body = world.GetBodyList(); body != nullptr; body = body->GetNext())
     {
         for (const b2Fixture* fixture = body->GetFixtureList(); fixture != nullptr;
@@ -93,52 +61,66 @@ MissedContacts CheckMissedContacts(const b2World& world, bool keepPairs)
             {
                 b2AABB box;
                 shape->ComputeAABB(&box, body->GetTransform(), child);
-                proxies.push_back({box, fixture, body, child, body->GetType() == b2_dynamicBody});
+                boxes.push_back({{fixture, child}, box});
             }
         }
     }
+    return boxes;
+}
 
-    std::unordered_set<PairKey, PairKeyHash> contacts;
-    for (const b2Contact* c = world.GetContactList(); c != nullptr; c = c->GetNext())
-    {
-        contacts.insert(MakePairKey(KeyOf(c->GetFixtureA(), c->GetChildIndexA()),
-                                    KeyOf(c->GetFixtureB(), c->GetChildIndexB())));
-    }
-
-    auto visit = [&](const Proxy& a, const Proxy& b)
-    {
-        if ((!a.dynamic && !b.dynamic) || !ShapesOverlap(a, b) || !BoxShouldCollide(world, a, b))
-        {
-            return;
-        }
-        ++result.overlapping;
-        if (contacts.count(MakePairKey(KeyOf(a.fixture, a.child), KeyOf(b.fixture, b.child))) == 0)
-        {
-            ++result.missed;
-            if (keepPairs)
-            {
-                result.missedPairs.push_back({{a.fixture, a.child}, {b.fixture, b.child}});
-            }
-        }
-    };
-
-    if (proxies.empty())
-    {
-        return result;
-    }
-
-    // Grid cell: twice the median extent of the boxes. Boxes covering more than kLargeCells cells (grounds,
-    // walls) are tested against every box instead of being spread over the grid.
+float MedianExtent(const std::vector<ChildBox>& boxes)
+{
     std::vector<float> extents;
-    extents.reserve(proxies.size());
-    for (const Proxy& p : proxies)
+    extents.reserve(boxes.size());
+    for (const ChildBox& p : boxes)
     {
         extents.push_back(
             std::max(p.box.upperBound.x - p.box.lowerBound.x, p.box.upperBound.y - p.box.lowerBound.y));
     }
+    if (extents.empty())
+    {
+        return 0.0f;
+    }
     std::nth_element(extents.begin(), extents.begin() + static_cast<std::ptrdiff_t>(extents.size() / 2),
                      extents.end());
-    const float cell = std::max(2.0f * extents[extents.size() / 2], 1e-3f);
+    return extents[extents.size() / 2];
+}
+
+MissedContacts CheckMissedContacts(const b2World& world, bool keepPairs)
+{
+    MissedContacts result;
+    const std::vector<ChildBox> proxies = ChildBoxes(world);
+
+    std::set<ChildPair> contacts;
+    for (const b2Contact* c = world.GetContactList(); c != nullptr; c = c->GetNext())
+    {
+        contacts.insert(
+            MakePair({c->GetFixtureA(), c->GetChildIndexA()}, {c->GetFixtureB(), c->GetChildIndexB()}));
+    }
+
+    auto visit = [&](const ChildBox& a, const ChildBox& b)
+    {
+        if ((a.fixture->GetBody()->GetType() != b2_dynamicBody &&
+             b.fixture->GetBody()->GetType() != b2_dynamicBody) ||
+            !ShapesOverlap(a, b) || !BoxShouldCollide(world, a, b))
+        {
+            return;
+        }
+        ++result.overlapping;
+        const ChildPair pair = MakePair(a, b);
+        if (contacts.count(pair) == 0)
+        {
+            ++result.missed;
+            if (keepPairs)
+            {
+                result.missedPairs.push_back(pair);
+            }
+        }
+    };
+
+    // Grid cell: twice the median extent of the boxes. Boxes covering more than kLargeCells cells (grounds,
+    // walls) are tested against every box instead of being spread over the grid.
+    const float cell = std::max(2.0f * MedianExtent(proxies), 1e-3f);
     const float inv = 1.0f / cell;
     constexpr int64_t kLargeCells = 64;
 
@@ -152,16 +134,11 @@ MissedContacts CheckMissedContacts(const b2World& world, bool keepPairs)
     for (int32_t i = 0; i < static_cast<int32_t>(proxies.size()); ++i)
     {
         const b2AABB& b = proxies[i].box;
-        if (!(std::isfinite(b.lowerBound.x) && std::isfinite(b.lowerBound.y) &&
-              std::isfinite(b.upperBound.x) && std::isfinite(b.upperBound.y)))
-        {
-            large.push_back(i); // a non-finite box: brute force, so nothing is silently skipped
-            isLarge[static_cast<size_t>(i)] = 1;
-            continue;
-        }
-        const int64_t x0 = cellOf(b.lowerBound.x), x1 = cellOf(b.upperBound.x);
-        const int64_t y0 = cellOf(b.lowerBound.y), y1 = cellOf(b.upperBound.y);
-        if ((x1 - x0 + 1) * (y1 - y0 + 1) > kLargeCells)
+        // A non-finite box is brute-forced too (and never reaches cellOf), so nothing is silently skipped.
+        const bool finite = b.lowerBound.IsValid() && b.upperBound.IsValid();
+        const int64_t x0 = finite ? cellOf(b.lowerBound.x) : 0, x1 = finite ? cellOf(b.upperBound.x) : 0;
+        const int64_t y0 = finite ? cellOf(b.lowerBound.y) : 0, y1 = finite ? cellOf(b.upperBound.y) : 0;
+        if (!finite || (x1 - x0 + 1) * (y1 - y0 + 1) > kLargeCells)
         {
             large.push_back(i);
             isLarge[static_cast<size_t>(i)] = 1;
@@ -182,10 +159,10 @@ MissedContacts CheckMissedContacts(const b2World& world, bool keepPairs)
         const std::vector<int32_t>& members = entry.second;
         for (size_t i = 0; i < members.size(); ++i)
         {
-            const Proxy& a = proxies[members[i]];
+            const ChildBox& a = proxies[members[i]];
             for (size_t j = i + 1; j < members.size(); ++j)
             {
-                const Proxy& b = proxies[members[j]];
+                const ChildBox& b = proxies[members[j]];
                 const int64_t cx = cellOf(std::max(a.box.lowerBound.x, b.box.lowerBound.x));
                 const int64_t cy = cellOf(std::max(a.box.lowerBound.y, b.box.lowerBound.y));
                 if (cellKey(cx, cy) == entry.first)

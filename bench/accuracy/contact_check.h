@@ -6,6 +6,8 @@
 #pragma once
 
 #include <cstdint>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include "box2d/box2d.h"
@@ -13,21 +15,40 @@
 namespace quadphase::accuracy
 {
 
-/// One fixture child (a broadphase proxy) of a pair.
+/// One fixture child (a broadphase proxy) of a pair, ordered by (fixture address, child index).
 struct ChildRef
 {
     const b2Fixture* fixture;
     int32 child;
+
+    bool operator<(const ChildRef& o) const
+    {
+        return std::tie(fixture, child) < std::tie(o.fixture, o.child);
+    }
 };
+/// A pair of fixture children, the smaller first.
+using ChildPair = std::pair<ChildRef, ChildRef>;
 
 /// Result of one CheckMissedContacts call.
 struct MissedContacts
 {
     /// child pairs whose shapes overlap (b2TestOverlap) and that Box2D should collide
     int64_t overlapping = 0;
-    int64_t missed = 0; ///< of those, the pairs with no b2Contact in the world's contact list
-    std::vector<std::pair<ChildRef, ChildRef>> missedPairs; ///< the missed pairs (filled when asked for)
+    int64_t missed = 0;                 ///< of those, the pairs with no b2Contact in the world's contact list
+    std::vector<ChildPair> missedPairs; ///< the missed pairs (filled when asked for)
 };
+
+/// A fixture child and its tight AABB (its shape's ComputeAABB at the body's current transform).
+struct ChildBox : ChildRef
+{
+    b2AABB box;
+};
+
+/// The tight AABB of every fixture child of `world`, in body, fixture and child order.
+std::vector<ChildBox> ChildBoxes(const b2World& world);
+
+/// The median over `boxes` of each box's larger extent, m; 0 when there are none.
+float MedianExtent(const std::vector<ChildBox>& boxes);
 
 /// Finds every pair of fixture children of `world` whose shapes overlap by b2TestOverlap at the bodies'
 /// current transforms and that b2ContactManager would collide (different bodies, at least one dynamic, no

@@ -19,19 +19,16 @@ const Box kEmptyBox{0.0f, 0.0f, 0.0f, 0.0f};
 
 Box CheckedBounds(const Box& bounds)
 {
-    if (!IsFinite(bounds))
+    const bool finite = IsFinite(bounds);
+    if (finite && bounds.minX < bounds.maxX && bounds.minY < bounds.maxY)
     {
-        ReportError(ErrorCode::NonFiniteBox, "PaperQuadtreeBroadPhase: non-finite bounds (%g, %g, %g, %g)",
-                    double(bounds.minX), double(bounds.minY), double(bounds.maxX), double(bounds.maxY));
-        return Config{}.bounds;
+        return bounds;
     }
-    if (!(bounds.minX < bounds.maxX && bounds.minY < bounds.maxY))
-    {
-        ReportError(ErrorCode::InvertedBox, "PaperQuadtreeBroadPhase: empty or inverted bounds (%g, %g, %g, %g)",
-                    double(bounds.minX), double(bounds.minY), double(bounds.maxX), double(bounds.maxY));
-        return Config{}.bounds;
-    }
-    return bounds;
+    ReportError(finite ? ErrorCode::InvertedBox : ErrorCode::NonFiniteBox,
+                "PaperQuadtreeBroadPhase: %s bounds (%g, %g, %g, %g)",
+                finite ? "empty or inverted" : "non-finite", double(bounds.minX), double(bounds.minY),
+                double(bounds.maxX), double(bounds.maxY));
+    return Config{}.bounds;
 }
 
 omp_sched_t OmpKind(Schedule schedule)

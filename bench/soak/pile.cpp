@@ -22,14 +22,10 @@
 #include "box2d/b2_broad_phase.h"
 #include "tool_common.h"
 
-#if defined(QUADPHASE_VARIANT_QUADPHASE)
-constexpr const char* kVariant = "quadphase";
-#else
-constexpr const char* kVariant = "stock";
-#endif
-
 namespace
 {
+
+constexpr const char* kUsage = "usage: qp-pile [--counts N1,N2,...] [--rounds R]\n";
 
 struct Counter
 {
@@ -37,36 +33,27 @@ struct Counter
     void AddPair(void*, void*) { ++pairs; }
 };
 
-[[noreturn]] void Usage(const char* error)
-{
-    qpbench::Die(2, "qp-pile: %s\nusage: qp-pile [--counts N1,N2,...] [--rounds R]\n", error);
-}
-
 } // namespace
 
 int main(int argc, char** argv)
 {
     const qpbench::Args args(argc, argv, "qp-pile", {"counts", "rounds"});
-    args.Check(true, "usage: qp-pile [--counts N1,N2,...] [--rounds R]\n");
-    std::vector<int> counts = {1000, 2000, 4000, 8000};
-    if (args.Has("counts"))
+    args.Check(true, "%s", kUsage);
+    std::vector<int> counts;
+    std::stringstream list(args.Get("counts", "1000,2000,4000,8000"));
+    std::string item;
+    while (std::getline(list, item, ','))
     {
-        counts.clear();
-        std::stringstream list(args.Get("counts"));
-        std::string item;
-        while (std::getline(list, item, ','))
+        const int n = std::atoi(item.c_str());
+        if (n < 2 || n > 100000)
         {
-            const int n = std::atoi(item.c_str());
-            if (n < 2 || n > 100000)
-            {
-                Usage("counts must be in [2, 100000]");
-            }
-            counts.push_back(n);
+            qpbench::Die(2, "qp-pile: counts must be in [2, 100000]\n%s", kUsage);
         }
+        counts.push_back(n);
     }
     const int rounds = int(args.GetIntIn("rounds", 7, 1, 1000));
 
-    std::printf("qp-pile (%s build of b2BroadPhase): %d rounds per count\n", kVariant, rounds);
+    std::printf("qp-pile (%s build of b2BroadPhase): %d rounds per count\n", QP_SOAK_VARIANT, rounds);
     std::printf("%8s %12s %12s %12s\n", "proxies", "pairs/round", "median_ms", "ns/pair");
     for (int n : counts)
     {

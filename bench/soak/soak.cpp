@@ -16,20 +16,17 @@
 #include "tool_common.h"
 #if defined(QUADPHASE_VARIANT_QUADPHASE)
 #include "quadphase/box2d.h"
-constexpr const char* kVariant = "quadphase";
-#else
-constexpr const char* kVariant = "stock";
 #endif
 
 namespace
 {
 
+constexpr const char* kUsage =
+    "usage: qp-soak [--steps N] [--size S] [--seed K] [--interval I] [--validate] [--max-growth PCT]\n";
+
 [[noreturn]] void Usage(const std::string& error)
 {
-    qpbench::Die(2,
-                 "qp-soak: %s\nusage: qp-soak [--steps N] [--size S] [--seed K] [--interval I] [--validate] "
-                 "[--max-growth PCT]\n",
-                 error.c_str());
+    qpbench::Die(2, "qp-soak: %s\n%s", error.c_str(), kUsage);
 }
 
 /// A field of /proc/self/status in KiB ("VmRSS:", "VmHWM:"); -1 when unknown. C stdio: a std::ifstream would
@@ -37,14 +34,14 @@ namespace
 long ProcStatusKiB(const char* field)
 {
     long kib = -1;
-    std::FILE* f = std::fopen("/proc/self/status", "r");
-    char line[256];
-    while (f != nullptr && kib < 0 && std::fgets(line, sizeof(line), f) != nullptr)
+    if (std::FILE* f = std::fopen("/proc/self/status", "r"))
     {
-        kib = std::strncmp(line, field, std::strlen(field)) == 0 ? std::atol(line + std::strlen(field)) : -1;
-    }
-    if (f != nullptr)
-    {
+        char line[256];
+        while (kib < 0 && std::fgets(line, sizeof(line), f) != nullptr)
+        {
+            kib = std::strncmp(line, field, std::strlen(field)) == 0 ? std::atol(line + std::strlen(field))
+                                                                     : -1;
+        }
         std::fclose(f);
     }
     return kib;
@@ -64,8 +61,7 @@ int main(int argc, char** argv)
     namespace scenes = quadphase::scenes;
     const qpbench::Args args(argc, argv, "qp-soak", {"steps", "size", "seed", "interval", "max-growth"},
                              {"validate"});
-    args.Check(true, "usage: qp-soak [--steps N] [--size S] [--seed K] [--interval I] [--validate]"
-                     " [--max-growth PCT]\n");
+    args.Check(true, "%s", kUsage);
     const long steps = args.GetIntIn("steps", 100000, 1, 100000000);
     const int size = int(args.GetIntIn("size", 2000, 20, 1000000));
     const uint32_t seed = uint32_t(args.GetIntIn("seed", 1, 0, 2147483647));
@@ -93,7 +89,7 @@ int main(int argc, char** argv)
 #endif
 
     std::printf("qp-soak (%s build): %ld steps, size %d, seed %u; world: scene library \"churn\": %s\n",
-                kVariant, steps, size, seed, info.description);
+                QP_SOAK_VARIANT, steps, size, seed, info.description);
     std::printf("%10s %8s %8s %10s %10s %12s\n", "step", "bodies", "proxies", "VmRSS_KiB", "VmHWM_KiB",
                 "bp_heap_KiB");
     auto report = [&](long step)
@@ -115,14 +111,13 @@ int main(int argc, char** argv)
     for (long step = 1; step <= steps; ++step)
     {
         scenes::StepScene(scene);
-        const bool atWarmup = step == warmupStep;
-        if (step % interval == 0 || step == steps || atWarmup)
+        if (step == warmupStep)
         {
-            const Rss now = report(step);
-            if (atWarmup)
-            {
-                warm = now;
-            }
+            warm = report(step);
+        }
+        else if (step % interval == 0 || step == steps)
+        {
+            report(step);
         }
     }
     const Rss end;

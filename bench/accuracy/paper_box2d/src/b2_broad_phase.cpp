@@ -3,47 +3,13 @@
 
 #include "quadphase_paper/paper_settings.h"
 
-namespace quadphase::bench
-{
-namespace
-{
-PaperSettings& Settings()
-{
-    static PaperSettings settings;
-    return settings;
-}
-} // namespace
-
-void SetPaperSettings(const PaperSettings& settings)
-{
-    Settings() = settings;
-}
-
-const PaperSettings& GetPaperSettings()
-{
-    return Settings();
-}
-} // namespace quadphase::bench
-
-namespace
-{
-quadphase::FatPolicy Box2DFatPolicy()
-{
-    quadphase::FatPolicy policy;
-    policy.extension = b2_aabbExtension;
-    policy.multiplier = b2_aabbMultiplier;
-    return policy;
-}
-} // namespace
-
 b2BroadPhase::b2BroadPhase()
-    : m_core(quadphase::bench::GetPaperSettings().levels, quadphase::bench::GetPaperSettings().bounds,
-             quadphase::bench::GetPaperSettings().threads, quadphase::bench::GetPaperSettings().schedule,
-             quadphase::bench::PaperPairReport::All, Box2DFatPolicy())
+    : m_core(quadphase::bench::g_paperSettings.levels, quadphase::bench::g_paperSettings.bounds,
+             quadphase::bench::g_paperSettings.threads, quadphase::bench::g_paperSettings.schedule,
+             quadphase::bench::PaperPairReport::All,
+             quadphase::FatPolicy{b2_aabbExtension, b2_aabbMultiplier})
 {
 }
-
-b2BroadPhase::~b2BroadPhase() = default;
 
 int32 b2BroadPhase::CreateProxy(const b2AABB& aabb, void* userData)
 {
@@ -63,24 +29,4 @@ void b2BroadPhase::MoveProxy(int32 proxyId, const b2AABB& aabb, const b2Vec2& di
 void b2BroadPhase::TouchProxy(int32 proxyId)
 {
     m_core.TouchProxy(proxyId);
-}
-
-int32 b2BroadPhase::GetTreeHeight() const
-{
-    return m_core.GetLevels();
-}
-
-int32 b2BroadPhase::GetTreeBalance() const
-{
-    return 0;
-}
-
-float b2BroadPhase::GetTreeQuality() const
-{
-    return 0.0f;
-}
-
-void b2BroadPhase::ShiftOrigin(const b2Vec2& newOrigin)
-{
-    m_core.ShiftOrigin({newOrigin.x, newOrigin.y});
 }

@@ -23,55 +23,6 @@ struct B2_API b2Pair
     int32 proxyIdB;
 };
 
-class B2_API b2BroadPhase
-{
-public:
-    enum
-    {
-        e_nullProxy = -1
-    };
-
-    /// Reads quadphase::bench::GetPaperSettings().
-    b2BroadPhase();
-    ~b2BroadPhase();
-    b2BroadPhase(const b2BroadPhase&) = delete;
-    b2BroadPhase& operator=(const b2BroadPhase&) = delete;
-
-    int32 CreateProxy(const b2AABB& aabb, void* userData);
-    void DestroyProxy(int32 proxyId);
-    void MoveProxy(int32 proxyId, const b2AABB& aabb, const b2Vec2& displacement);
-    void TouchProxy(int32 proxyId);
-    const b2AABB& GetFatAABB(int32 proxyId) const;
-    void* GetUserData(int32 proxyId) const;
-    bool TestOverlap(int32 proxyIdA, int32 proxyIdB) const;
-    int32 GetProxyCount() const;
-
-    /// The paper's frame: every live proxy inserted, every leaf searched, every found pair reported (a pair
-    /// may come twice; some overlapping pairs are missed). O(proxies + leaves + tests) on every call,
-    /// including the calls Box2D makes after time-of-impact events.
-    template <typename T>
-    void UpdatePairs(T* callback);
-
-    /// Brute force over the proxies (the paper has no queries): exact.
-    template <typename T>
-    void Query(T* callback, const b2AABB& aabb) const;
-    template <typename T>
-    void RayCast(T* callback, const b2RayCastInput& input) const;
-
-    /// The paper's level count.
-    int32 GetTreeHeight() const;
-    /// Not meaningful for this tree: 0.
-    int32 GetTreeBalance() const;
-    /// Not meaningful for this tree: 0.
-    float GetTreeQuality() const;
-
-    void ShiftOrigin(const b2Vec2& newOrigin);
-
-private:
-    quadphase::bench::PaperQuadtreeBroadPhase m_core;
-    std::vector<quadphase::Pair> m_pairs;
-};
-
 namespace quadphase::bench::detail
 {
 static_assert(sizeof(b2AABB) == sizeof(Box), "b2AABB and quadphase::Box must have the same layout");
@@ -98,49 +49,74 @@ float RayCastTrampoline(void* context, const RayInput& in, ProxyId id)
 }
 } // namespace quadphase::bench::detail
 
-inline void* b2BroadPhase::GetUserData(int32 proxyId) const
+class B2_API b2BroadPhase
 {
-    return m_core.GetUserData(proxyId);
-}
-
-inline bool b2BroadPhase::TestOverlap(int32 proxyIdA, int32 proxyIdB) const
-{
-    return quadphase::Overlaps(m_core.GetFatBox(proxyIdA), m_core.GetFatBox(proxyIdB));
-}
-
-inline const b2AABB& b2BroadPhase::GetFatAABB(int32 proxyId) const
-{
-    return reinterpret_cast<const b2AABB&>(m_core.GetFatBox(proxyId));
-}
-
-inline int32 b2BroadPhase::GetProxyCount() const
-{
-    return m_core.GetProxyCount();
-}
-
-template <typename T>
-void b2BroadPhase::UpdatePairs(T* callback)
-{
-    m_pairs.clear();
-    m_core.FindPairs(m_pairs);
-    for (const quadphase::Pair& pair : m_pairs)
+public:
+    enum
     {
-        callback->AddPair(m_core.GetUserData(pair.a), m_core.GetUserData(pair.b));
+        e_nullProxy = -1
+    };
+
+    /// Reads quadphase::bench::g_paperSettings.
+    b2BroadPhase();
+    b2BroadPhase(const b2BroadPhase&) = delete;
+    b2BroadPhase& operator=(const b2BroadPhase&) = delete;
+
+    int32 CreateProxy(const b2AABB& aabb, void* userData);
+    void DestroyProxy(int32 proxyId);
+    void MoveProxy(int32 proxyId, const b2AABB& aabb, const b2Vec2& displacement);
+    void TouchProxy(int32 proxyId);
+    const b2AABB& GetFatAABB(int32 proxyId) const
+    {
+        return reinterpret_cast<const b2AABB&>(m_core.GetFatBox(proxyId));
     }
-}
+    void* GetUserData(int32 proxyId) const { return m_core.GetUserData(proxyId); }
+    bool TestOverlap(int32 proxyIdA, int32 proxyIdB) const
+    {
+        return quadphase::Overlaps(m_core.GetFatBox(proxyIdA), m_core.GetFatBox(proxyIdB));
+    }
+    int32 GetProxyCount() const { return m_core.GetProxyCount(); }
 
-template <typename T>
-inline void b2BroadPhase::Query(T* callback, const b2AABB& aabb) const
-{
-    m_core.Query(quadphase::bench::detail::ToBox(aabb), &quadphase::bench::detail::QueryTrampoline<T>,
-                 callback);
-}
+    /// The paper's frame: every live proxy inserted, every leaf searched, every found pair reported (a pair
+    /// may come twice; some overlapping pairs are missed). O(proxies + leaves + tests) on every call,
+    /// including the calls Box2D makes after time-of-impact events.
+    template <typename T>
+    void UpdatePairs(T* callback)
+    {
+        m_pairs.clear();
+        m_core.FindPairs(m_pairs);
+        for (const quadphase::Pair& pair : m_pairs)
+        {
+            callback->AddPair(m_core.GetUserData(pair.a), m_core.GetUserData(pair.b));
+        }
+    }
 
-template <typename T>
-inline void b2BroadPhase::RayCast(T* callback, const b2RayCastInput& input) const
-{
-    const quadphase::RayInput in{{input.p1.x, input.p1.y}, {input.p2.x, input.p2.y}, input.maxFraction};
-    m_core.RayCast(in, &quadphase::bench::detail::RayCastTrampoline<T>, callback);
-}
+    /// Brute force over the proxies (the paper has no queries): exact.
+    template <typename T>
+    void Query(T* callback, const b2AABB& aabb) const
+    {
+        m_core.Query(quadphase::bench::detail::ToBox(aabb), &quadphase::bench::detail::QueryTrampoline<T>,
+                     callback);
+    }
+    template <typename T>
+    void RayCast(T* callback, const b2RayCastInput& input) const
+    {
+        const quadphase::RayInput in{{input.p1.x, input.p1.y}, {input.p2.x, input.p2.y}, input.maxFraction};
+        m_core.RayCast(in, &quadphase::bench::detail::RayCastTrampoline<T>, callback);
+    }
+
+    /// The paper's level count.
+    int32 GetTreeHeight() const { return m_core.GetLevels(); }
+    /// Not meaningful for this tree: 0.
+    int32 GetTreeBalance() const { return 0; }
+    /// Not meaningful for this tree: 0.
+    float GetTreeQuality() const { return 0.0f; }
+
+    void ShiftOrigin(const b2Vec2& newOrigin) { m_core.ShiftOrigin({newOrigin.x, newOrigin.y}); }
+
+private:
+    quadphase::bench::PaperQuadtreeBroadPhase m_core;
+    std::vector<quadphase::Pair> m_pairs;
+};
 
 #endif

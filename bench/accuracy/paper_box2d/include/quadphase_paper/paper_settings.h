@@ -20,7 +20,6 @@ struct PaperSettings
 };
 
 /// Settings for b2BroadPhase objects constructed from now on. Not thread-safe (set before building a world).
-void SetPaperSettings(const PaperSettings& settings);
-const PaperSettings& GetPaperSettings();
+inline PaperSettings g_paperSettings;
 
 } // namespace quadphase::bench
