@@ -21,7 +21,7 @@ while [[ $# -gt 0 ]]; do
     case "$1" in
         -h|--help) exec /usr/bin/python3 bench/bench.py --help ;;
         --full) args+=("$1"); opt=${opt:-both}; shift ;;
-        --opt) opt=${2:-}; shift 2 ;;
+        --opt) [[ $# -ge 2 ]] || { echo "bench/run.sh: --opt needs O2, O3 or both" >&2; exit 2; }; opt=$2; shift 2 ;;
         --opt=*) opt=${1#--opt=}; shift ;;
         *) args+=("$1"); shift ;;
     esac
