@@ -120,8 +120,8 @@ struct QueryStats
 {
     // Buckets of buffered proxies per UpdatePairs call, by the thresholds the sweep uses.
     static constexpr int kBuckets = 8;
-    static constexpr int kEdges[kBuckets] = {0,   1,   64,   128,
-                                             256, 512, 1024, 4096}; // bucket b: [edge b, edge b+1)
+    // Bucket b: [edge b, edge b+1).
+    static constexpr int kEdges[kBuckets] = {0, 1, 64, 128, 256, 512, 1024, 4096};
     int64_t callsIn[kBuckets] = {};
     int64_t queriesIn[kBuckets] = {};
 
@@ -260,11 +260,10 @@ int main(int argc, char** argv)
     }
     PrintMachine(stdout);
     const std::string jsonPath = args.Get("json");
-    const std::string label = args.Get("label");
     const auto toolJson = [&](const char* kind)
     {
         JsonLine j;
-        j.Str("tool", "qp-replay").Str("kind", kind).Str("label", label);
+        j.Str("tool", "qp-replay").Str("kind", kind).Str("label", args.Get("label"));
         return j;
     };
 
@@ -492,8 +491,8 @@ int main(int argc, char** argv)
             auto engine =
                 std::make_unique<CoreEngine<quadphase::QuadtreeBroadPhase>>(quadphase::FatPolicy{}, c);
             const RunResult result = Replay(loaded, *engine);
-            const int64_t heap =
-                HeapBytes() - heap0; // what the engine holds after the whole trace (HeapBytes)
+            // What the engine holds after the whole trace (HeapBytes).
+            const int64_t heap = HeapBytes() - heap0;
             const quadphase::Stats st = engine->Get().GetStats();
             JsonLine j = baseJson("run");
             j.Str("engine", "quadtree");

@@ -234,23 +234,21 @@ inline std::vector<CallHash> LoadHashesOrDie(const std::string& path)
         return hashes;
     }
     std::ifstream in(path);
-    if (!in)
+    bool ok = in.is_open();
+    std::string line;
+    while (ok && std::getline(in, line))
+    {
+        unsigned long long index = 0, count = 0, hash = 0;
+        if (!line.empty() && line[0] != '#')
+        {
+            ok = std::sscanf(line.c_str(), "%llu %llu %llx", &index, &count, &hash) == 3 &&
+                 index == hashes.size();
+            hashes.push_back(CallHash{count, hash});
+        }
+    }
+    if (!ok)
     {
         Die(1, "qp-replay: cannot read hashes from %s\n", path.c_str());
-    }
-    std::string line;
-    while (std::getline(in, line))
-    {
-        if (line.empty() || line[0] == '#')
-        {
-            continue;
-        }
-        unsigned long long index = 0, count = 0, hash = 0;
-        if (std::sscanf(line.c_str(), "%llu %llu %llx", &index, &count, &hash) != 3 || index != hashes.size())
-        {
-            Die(1, "qp-replay: cannot read hashes from %s\n", path.c_str());
-        }
-        hashes.push_back(CallHash{count, hash});
     }
     return hashes;
 }
@@ -354,8 +352,8 @@ struct StepSample
 struct RunResult
 {
     std::vector<StepSample> steps;
-    std::vector<int32_t>
-        callNs;                // every UpdatePairs call of the timed steps, in order: its own clock-read pair
+    // Every UpdatePairs call of the timed steps, in order: its own clock-read pair.
+    std::vector<int32_t> callNs;
     double setupSeconds = 0.0; // untimed prefix (creation + warm-up)
 
     /// One field of every step, in order, and its sum.
