@@ -433,10 +433,7 @@ int main(int argc, char** argv)
         std::printf("  %s n=%ld: %.2f ms/frame%s %s\n", s.engine.c_str(), count, e.medianMs,
                     e.aborted ? " (aborted)" : "", pass ? "pass" : "fail");
         std::fflush(stdout);
-        if (pass)
-            lo = count;
-        else
-            hi = count;
+        (pass ? lo : hi) = count;
     };
     // Checked before each evaluation: past --max-seconds (or `over`: past --max-n), the search stops, capped.
     auto cap = [&](bool over)
