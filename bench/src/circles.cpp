@@ -15,12 +15,12 @@
 //             margins), every frame inserts everything, reports all pairs found; each is circle-tested;
 //   stock     Box2D 2.4.1's b2BroadPhase (MoveProxy of every circle, UpdatePairs);
 //   quadtree  quadphase::QuadtreeBroadPhase (--depth, --threads) through the same calls.
-// Each repeat builds a fresh world, runs one creation frame and, for stock and quadtree, --warmup frames untimed
-// (all circles start together, so Box2D's fat boxes expire in bursts at first; the warm-up spreads them out;
-// brute force and the paper's design keep no state between frames), then times --frames frames (their mean).
-// stock and quadtree keep Box2D's persistent pair list, as b2ContactManager does: new pairs from UpdatePairs
-// are added (duplicates dropped), every listed pair whose fat boxes no longer overlap is dropped, and every
-// listed pair is circle-tested; all of that is in the frame time, the same code for both.
+// Each repeat builds a fresh world, runs one creation frame and, for stock and quadtree, --warmup frames
+// untimed (all circles start together, so Box2D's fat boxes expire in bursts at first; the warm-up spreads
+// them out; brute force and the paper's design keep no state between frames), then times --frames frames
+// (their mean). stock and quadtree keep Box2D's persistent pair list, as b2ContactManager does: new pairs
+// from UpdatePairs are added (duplicates dropped), every listed pair whose fat boxes no longer overlap is
+// dropped, and every listed pair is circle-tested; all of that is in the frame time, the same code for both.
 //
 // Search: N doubles from --start while it passes (or halves while it fails), then bisects until the bracket
 // is within --precision; an evaluation fails early when one frame takes more than 5x the budget.
@@ -209,14 +209,12 @@ private:
 class Stock final : public Detector
 {
 public:
-    explicit Stock(const Circles& c)
+    explicit Stock(const Circles& c) : m_last(c.x), m_lastY(c.y)
     {
         for (int i = 0; i < c.Count(); ++i)
         {
             m_ids.push_back(m_bp.CreateProxy(ToAabb(c.Tight(i)), reinterpret_cast<void*>(intptr_t(i))));
         }
-        m_last = c.x;
-        m_lastY = c.y;
     }
     int64_t Frame(const Circles& c) override
     {
@@ -243,15 +241,13 @@ private:
 class Quadtree final : public Detector
 {
 public:
-    Quadtree(const Circles& c, int depth, int threads)
-        : m_bp(quadphase::FatPolicy{}, MakeConfig(depth, threads))
+    Quadtree(const Circles& c, const quadphase::Config& config)
+        : m_bp(quadphase::FatPolicy{}, config), m_last(c.x), m_lastY(c.y)
     {
         for (int i = 0; i < c.Count(); ++i)
         {
             m_ids.push_back(m_bp.CreateProxy(c.Tight(i), reinterpret_cast<void*>(intptr_t(i))));
         }
-        m_last = c.x;
-        m_lastY = c.y;
     }
     int64_t Frame(const Circles& c) override
     {
@@ -276,13 +272,6 @@ public:
     }
 
 private:
-    static quadphase::Config MakeConfig(int depth, int threads)
-    {
-        quadphase::Config config;
-        config.depth = depth;
-        config.threads = threads;
-        return config;
-    }
     quadphase::QuadtreeBroadPhase m_bp;
     std::vector<int32_t> m_ids;
     std::vector<float> m_last, m_lastY;
@@ -300,28 +289,23 @@ struct Settings
     uint32_t seed = 1;
 };
 
-int PaperAutoLevels(float side)
-{
-    int levels = 1;
-    for (int l = 1; l <= quadphase::bench::PaperQuadtreeBroadPhase::kMaxLevels; ++l)
-    {
-        if (side / float(1 << (l - 1)) >= 4.0f * kRadius)
-        {
-            levels = l;
-        }
-    }
-    return levels;
-}
-
 std::unique_ptr<Detector> Make(const Settings& s, const Circles& c)
 {
     if (s.engine == "pairwise")
         return std::make_unique<Pairwise>();
     if (s.engine == "paper")
-        return std::make_unique<Paper>(c, s.depth < 0 ? PaperAutoLevels(c.side) : s.depth, s.threads);
+    {
+        // auto: leaves at least twice the circle's diameter.
+        const int levels =
+            PaperLevelsFor(c.side, 4.0 * kRadius, quadphase::bench::PaperQuadtreeBroadPhase::kMaxLevels);
+        return std::make_unique<Paper>(c, s.depth < 0 ? levels : s.depth, s.threads);
+    }
     if (s.engine == "stock")
         return std::make_unique<Stock>(c);
-    return std::make_unique<Quadtree>(c, s.depth, s.threads);
+    quadphase::Config config;
+    config.depth = s.depth;
+    config.threads = s.threads;
+    return std::make_unique<Quadtree>(c, config);
 }
 
 struct Evaluation
@@ -383,26 +367,26 @@ int main(int argc, char** argv)
     const Args args(argc, argv, "qp-circles",
                     {"engine", "threads", "depth", "budget-ms", "repeats", "frames", "warmup", "start",
                      "precision", "max-seconds", "max-n", "seed", "json", "label"});
-    Settings s;
-    s.engine = args.Get("engine");
+    const std::string engine = args.Get("engine");
     const bool knownEngine =
-        s.engine == "pairwise" || s.engine == "paper" || s.engine == "stock" || s.engine == "quadtree";
+        engine == "pairwise" || engine == "paper" || engine == "stock" || engine == "quadtree";
     if (!knownEngine && args.Has("engine"))
     {
-        std::fprintf(stderr, "qp-circles: unknown engine '%s'\n", s.engine.c_str());
+        std::fprintf(stderr, "qp-circles: unknown engine '%s'\n", engine.c_str());
     }
     args.Check(knownEngine,
                "usage: qp-circles --engine pairwise|paper|stock|quadtree [--threads T] [--depth D|auto]\n"
                "       [--budget-ms 20] [--repeats 3] [--frames 10] [--warmup 20] [--start 1000]\n"
                "       [--precision 0.03] [--max-seconds 60] [--max-n N] [--seed S] [--json FILE]\n");
-    s.threads = int(args.GetInt("threads", 1));
     const std::string depth = args.Get("depth", "auto");
-    s.depth = depth == "auto" ? -1 : std::atoi(depth.c_str());
-    s.budgetMs = std::atof(args.Get("budget-ms", "20").c_str());
-    s.repeats = int(args.GetInt("repeats", 3));
-    s.frames = int(args.GetInt("frames", 10));
-    s.warmup = int(args.GetInt("warmup", 20));
-    s.seed = uint32_t(args.GetInt("seed", 1));
+    const Settings s{engine,
+                     int(args.GetInt("threads", 1)),
+                     depth == "auto" ? -1 : std::atoi(depth.c_str()),
+                     std::atof(args.Get("budget-ms", "20").c_str()),
+                     int(args.GetInt("repeats", 3)),
+                     int(args.GetInt("frames", 10)),
+                     int(args.GetInt("warmup", 20)),
+                     uint32_t(args.GetInt("seed", 1))};
     const double precision = std::atof(args.Get("precision", "0.03").c_str());
     const double maxSeconds = std::atof(args.Get("max-seconds", "60").c_str());
     const long maxN = args.GetInt("max-n", 4000000);
@@ -449,10 +433,7 @@ int main(int argc, char** argv)
         std::printf("  %s n=%ld: %.2f ms/frame%s %s\n", s.engine.c_str(), count, e.medianMs,
                     e.aborted ? " (aborted)" : "", pass ? "pass" : "fail");
         std::fflush(stdout);
-        if (pass)
-            lo = count;
-        else
-            hi = count;
+        (pass ? lo : hi) = count;
     };
     // Checked before each evaluation: past --max-seconds (or `over`: past --max-n), the search stops, capped.
     auto cap = [&](bool over)

@@ -16,15 +16,14 @@ namespace qpbench
 
 using quadphase::ProxyId;
 
-/// An engine behind quadphase::BroadPhaseInterface: QuadtreeBroadPhase, BruteForceBroadPhase, the paper's design
-/// (the calls below are direct: the classes are final).
+/// An engine behind quadphase::BroadPhaseInterface: QuadtreeBroadPhase, BruteForceBroadPhase, the paper's
+/// design (the calls below are direct: the classes are final).
 template <typename BP>
 class CoreEngine
 {
 public:
     template <typename... A>
-    explicit CoreEngine(A&&... a)
-        : m_bp(std::forward<A>(a)...)
+    explicit CoreEngine(A&&... a) : m_bp(std::forward<A>(a)...)
     {
     }
 
@@ -74,7 +73,8 @@ public:
     {
         for (const quadphase::Pair& p : m_pairs)
         {
-            keys.push_back(PairKey(int32_t(intptr_t(m_bp.GetUserData(p.a))), int32_t(intptr_t(m_bp.GetUserData(p.b)))));
+            keys.push_back(
+                PairKey(int32_t(intptr_t(m_bp.GetUserData(p.a))), int32_t(intptr_t(m_bp.GetUserData(p.b)))));
         }
     }
     void BeginTimedSteps()
@@ -89,13 +89,14 @@ public:
 
     // Buffered-proxy tracking for the checking run: the live proxies that the next UpdatePairs will query.
     void SetTracking(bool on) { m_track = on; }
+    /// QuadtreeBroadPhase only (the pool says which buffered proxies are still live).
     std::vector<ProxyId> TakeBuffered()
     {
         std::vector<ProxyId> live;
         for (ProxyId id : m_buffered)
         {
             m_flag[size_t(id)] = 0;
-            if (IsLive(id))
+            if (m_bp.GetPool().IsLive(id))
             {
                 live.push_back(id);
             }
@@ -105,17 +106,6 @@ public:
     }
 
 private:
-    bool IsLive(ProxyId id) const
-    {
-        if constexpr (std::is_same_v<BP, quadphase::QuadtreeBroadPhase>)
-        {
-            return m_bp.GetPool().IsLive(id);
-        }
-        else
-        {
-            return true;
-        }
-    }
     void Mark(ProxyId id)
     {
         if (size_t(id) >= m_flag.size())

@@ -1,13 +1,16 @@
 // The foreign spatial indexes qp-replay's peers run over (replay_peers.cpp), each behind one small interface:
 //   Insert(id, fat), Update(id, fat), Remove(id)       the box the index keeps for `id` (Box2D's fat box)
-//   Query(fat, fn(int32_t id))                          every id whose indexed box may overlap `fat` (a superset)
-//   AllPairs(fn(int32_t a, int32_t b))                  the index's own per-step loop (native mode): every pair
-//                                                       whose indexed boxes may overlap, each once (a superset)
+//   Query(fat, fn(int32_t id))                          every id whose indexed box may overlap `fat` (a
+//   superset) AllPairs(fn(int32_t a, int32_t b))                  the index's own per-step loop (native
+//   mode): every pair
+//                                                       whose indexed boxes may overlap, each once (a
+//                                                       superset)
 // Ids are the engine's (0..n-1); the engine filters what an index returns with the exact fat-box test.
 #pragma once
 
 #include <cstdint>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "quadphase/box.h"
@@ -31,7 +34,6 @@ using quadphase::Box;
 class QuadIndex
 {
 public:
-    static constexpr bool kOracle = false;
     explicit QuadIndex(const std::vector<Box>*) {}
     void Insert(int32_t id, const Box& fat)
     {
@@ -46,16 +48,13 @@ public:
     template <typename Fn>
     void Query(const Box& b, Fn&& fn)
     {
-        struct Context
-        {
-            Fn& fn;
-            const quadphase::QuadtreeBroadPhase& bp;
-        } context{fn, m_bp};
+        std::pair context{&fn, &m_bp};
         m_bp.Query(
             b,
-            [](void* c, quadphase::ProxyId p) {
-                Context& x = *static_cast<Context*>(c);
-                x.fn(int32_t(intptr_t(x.bp.GetUserData(p))));
+            [](void* c, quadphase::ProxyId p)
+            {
+                const auto& [f, bp] = *static_cast<decltype(context)*>(c);
+                (*f)(int32_t(intptr_t(bp->GetUserData(p))));
                 return true;
             },
             &context);
@@ -67,14 +66,14 @@ private:
 };
 
 #if QP_HAVE_CHIPMUNK
-/// Chipmunk2D 7: cpSpaceHash (cell side `cell`, `cells` buckets) or cpBBTree (no velocity function). Chipmunk's
-/// bounding-box callback carries no context: the current engine's boxes are a global (one engine at a time).
+/// Chipmunk2D 7: cpSpaceHash (cell side `cell`, `cells` buckets) or cpBBTree (no velocity function).
+/// Chipmunk's bounding-box callback carries no context: the current engine's boxes are a global (one engine
+/// at a time).
 inline const std::vector<Box>* g_cpBoxes = nullptr;
 
 class ChipmunkIndex
 {
 public:
-    static constexpr bool kOracle = false;
     ChipmunkIndex(const std::vector<Box>* boxes, bool hash, double cell, int cells)
         : m_index(hash ? cpSpaceHashNew(cell, cells, BB, nullptr) : cpBBTreeNew(BB, nullptr))
     {
@@ -92,8 +91,8 @@ public:
     {
         cpSpatialIndexQuery(m_index, nullptr, cpBBNew(b.minX, b.minY, b.maxX, b.maxY), &One<Fn>, &fn);
     }
-    /// cpSpatialIndexReindexQuery: what cpSpace's step does (the hash re-hashes every object; the tree updates
-    /// the leaves whose box left theirs and reports its cached pairs).
+    /// cpSpatialIndexReindexQuery: what cpSpace's step does (the hash re-hashes every object; the tree
+    /// updates the leaves whose box left theirs and reports its cached pairs).
     template <typename Fn>
     void AllPairs(Fn&& fn)
     {
@@ -126,18 +125,18 @@ private:
 
 #if QP_HAVE_BULLET
 /// Bullet 3: btDbvtBroadphase, or bt32BitAxisSweep3 over `world` (sap). Native mode uses the broadphase's own
-/// pair cache (calculateOverlappingPairs, then the cache's pairs); Box2D's protocol queries with aabbTest, with
-/// collisions deferred so that setAabb does no pair-cache work.
+/// pair cache (calculateOverlappingPairs, then the cache's pairs); Box2D's protocol queries with aabbTest,
+/// with collisions deferred so that setAabb does no pair-cache work.
 class BulletIndex
 {
 public:
-    static constexpr bool kOracle = false;
     BulletIndex(const std::vector<Box>*, bool native, bool sap, const Box& world, int maxProxies)
     {
         if (sap)
         {
-            m_bp.reset(new bt32BitAxisSweep3(btVector3(world.minX, world.minY, -1), btVector3(world.maxX, world.maxY, 1),
-                                             unsigned(maxProxies + 2), nullptr, true));
+            m_bp.reset(new bt32BitAxisSweep3(btVector3(world.minX, world.minY, -1),
+                                             btVector3(world.maxX, world.maxY, 1), unsigned(maxProxies + 2),
+                                             nullptr, true));
         }
         else
         {
@@ -209,13 +208,13 @@ private:
 };
 #endif
 
-/// The oracle's "index": no search at all. It hands out, query by query, the pairs an exact index gave for the
-/// same query in an untimed preparation run (ProtocolEngine records them).
+/// The oracle's "index": no search at all. It hands out, query by query, the pairs an exact index gave for
+/// the same query in an untimed preparation run (replay_peers.cpp's PeerEngine records them).
 class OracleIndex
 {
 public:
-    static constexpr bool kOracle = true;
-    OracleIndex(const std::vector<Box>*, std::vector<std::pair<int32_t, int32_t>> pairs, std::vector<int32_t> perQuery)
+    OracleIndex(const std::vector<Box>*, std::vector<std::pair<int32_t, int32_t>> pairs,
+                std::vector<int32_t> perQuery)
         : m_pairs(std::move(pairs)), m_perQuery(std::move(perQuery))
     {
     }

@@ -103,14 +103,6 @@ struct Workload
     int64_t contacts = -1;   // teleport_step: the world's contacts after the last step (its "hits")
 };
 
-/// Fixtures reported (all-hit callbacks) or rays that hit something (closest-hit), per repeat.
-double HitsPerRepeat(const Hits& hits, long repeats)
-{
-    const auto hit =
-        std::count_if(hits.closest.begin(), hits.closest.end(), [](uint64_t c) { return c >> 32 != 0; });
-    return double(int64_t(hits.ids.size()) + hit) / double(repeats);
-}
-
 /// The hits' hash (see the top of the file), as 16 hex digits.
 std::string HashHits(const Hits& hits)
 {
@@ -368,9 +360,13 @@ int main(int argc, char** argv)
     for (const Workload& w : work)
     {
         const std::string k = w.name;
+        // Fixtures reported (all-hit callbacks) or rays that hit something (closest-hit), per repeat.
+        const auto rayHits = std::count_if(w.hits.closest.begin(), w.hits.closest.end(),
+                                           [](uint64_t c) { return c >> 32 != 0; });
+        const double hits = double(int64_t(w.hits.ids.size()) + rayHits) / double(repeats);
         j.Num((k + "_ns").c_str(), double(Median(w.ns)))
             .Int((k + "_queries").c_str(), w.queries)
-            .Num((k + "_hits").c_str(), w.contacts >= 0 ? double(w.contacts) : HitsPerRepeat(w.hits, repeats))
+            .Num((k + "_hits").c_str(), w.contacts >= 0 ? double(w.contacts) : hits)
             .Str((k + "_hash").c_str(), HashHits(w.hits));
         std::printf("%s %-18s %10.3f ms (median of %ld), %lld queries\n", kVariant, w.name.c_str(),
                     double(Median(w.ns)) * 1e-6, repeats, static_cast<long long>(w.queries));

@@ -1,22 +1,23 @@
-// qp-replay: replays a trace (qp-record) through a broadphase and times the broadphase work of each recorded step
-// (definition in replay_common.h): quadphase::QuadtreeBroadPhase (this file; any Config), stock Box2D 2.4.1's
-// b2BroadPhase and the peers (replay_peers.cpp: brute force, the paper's design, Chipmunk2D, Bullet, the oracle
-// floor), or a null engine (the replay loop alone). Also: --triad (the memory floor's bandwidth), --omp-overhead
-// (the cost of a parallel region), --print-config (the core's defaults). Usage: qp-replay --help.
+// qp-replay: replays a trace (qp-record) through a broadphase and times the broadphase work of each recorded
+// step (definition in replay_common.h): quadphase::QuadtreeBroadPhase (this file; any Config), stock
+// Box2D 2.4.1's b2BroadPhase and the peers (replay_peers.cpp: brute force, the paper's design, Chipmunk2D,
+// Bullet, the oracle floor), or a null engine (the replay loop alone). Also: --triad (the memory floor's
+// bandwidth), --omp-overhead (the cost of a parallel region), --print-config (the core's defaults). Usage:
+// qp-replay --help.
 //
 // Every --config is the base settings (--threads ... --threshold) with some keys overridden; without --config
-// there is one configuration, the base. The timed runs go round the configurations R times (configuration order
-// within each round), so slow phases of a noisy machine hit every configuration alike.
+// there is one configuration, the base. The timed runs go round the configurations R times (configuration
+// order within each round), so slow phases of a noisy machine hit every configuration alike.
 //
 // --check first|all: before the timed runs, one untimed checking run per configuration (first: only the first
 // one) hashes the pair set of every UpdatePairs call (--hashes-out writes the first configuration's hashes;
-// --compare-hashes compares each checked configuration against a file, e.g. --engine stock's) and gathers query
-// statistics (cells and candidates per query, buffered proxies per UpdatePairs call). --brute also replays
-// through BruteForceBroadPhase (small traces only) and compares.
+// --compare-hashes compares each checked configuration against a file, e.g. --engine stock's) and gathers
+// query statistics (cells and candidates per query, buffered proxies per UpdatePairs call). --brute also
+// replays through BruteForceBroadPhase (small traces only) and compares.
 //
-// --per-call adds to the JSON lines the FindPairs time of every timed UpdatePairs call (timed runs) and its number
-// of buffered proxies (checking runs; the same for every configuration, since it depends only on the trace), so
-// the cost of a call can be studied by its size (where a parallel region starts paying).
+// --per-call adds to the JSON lines the FindPairs time of every timed UpdatePairs call (timed runs) and its
+// number of buffered proxies (checking runs; the same for every configuration, since it depends only on the
+// trace), so the cost of a call can be studied by its size (where a parallel region starts paying).
 #include <cstdio>
 #include <memory>
 #include <sstream>
@@ -38,21 +39,8 @@ using quadphase::Config;
 using quadphase::ProxyId;
 using quadphase::Schedule;
 
-const std::pair<const char*, Schedule> kSchedules[] = {
-    {"static", Schedule::Static}, {"dynamic", Schedule::Dynamic}, {"guided", Schedule::Guided},
-    {"auto", Schedule::Auto}};
-
-const char* ScheduleName(Schedule s)
-{
-    for (const auto& k : kSchedules)
-    {
-        if (k.second == s)
-        {
-            return k.first;
-        }
-    }
-    return "?";
-}
+// Indexed by quadphase::Schedule.
+const char* const kScheduleNames[] = {"static", "dynamic", "guided", "auto"};
 
 int ToInt(const std::string& key, const std::string& v)
 {
@@ -76,13 +64,12 @@ void SetKey(Config& c, const std::string& key, const std::string& value)
         c.parallelThreshold = ToInt(key, value);
     else if (key == "schedule")
     {
-        const auto* k = std::find_if(std::begin(kSchedules), std::end(kSchedules),
-                                     [&](const auto& named) { return value == named.first; });
-        if (k == std::end(kSchedules))
+        const auto* k = std::find(std::begin(kScheduleNames), std::end(kScheduleNames), value);
+        if (k == std::end(kScheduleNames))
         {
             Die(2, "qp-replay: unknown schedule '%s'\n", value.c_str());
         }
-        c.schedule = k->second;
+        c.schedule = Schedule(k - std::begin(kScheduleNames));
     }
     else
     {
@@ -94,8 +81,8 @@ std::string Describe(const Config& c)
 {
     char buf[160];
     std::snprintf(buf, sizeof(buf), "threads=%d schedule=%s chunk=%d depth=%s threshold=%d", c.threads,
-                  ScheduleName(c.schedule), c.chunk, c.depth < 0 ? "auto" : std::to_string(c.depth).c_str(),
-                  c.parallelThreshold);
+                  kScheduleNames[int(c.schedule)], c.chunk,
+                  c.depth < 0 ? "auto" : std::to_string(c.depth).c_str(), c.parallelThreshold);
     return buf;
 }
 
@@ -133,16 +120,17 @@ struct QueryStats
 {
     // Buckets of buffered proxies per UpdatePairs call, by the thresholds the sweep uses.
     static constexpr int kBuckets = 8;
-    static constexpr int kEdges[kBuckets] = {0, 1, 64, 128, 256, 512, 1024, 4096}; // bucket b: [edge b, edge b+1)
+    // Bucket b: [edge b, edge b+1).
+    static constexpr int kEdges[kBuckets] = {0, 1, 64, 128, 256, 512, 1024, 4096};
     int64_t callsIn[kBuckets] = {};
     int64_t queriesIn[kBuckets] = {};
 
     int64_t calls = 0;
-    int64_t queries = 0;    // buffered live proxies queried
-    int64_t cells = 0;      // cells read over the non-empty levels (Pyramid::VisitCost)
-    int64_t candidates = 0; // entries read, the query's own entry excluded
-    int64_t overlaps = 0;   // candidates whose fat box overlaps (before the "both buffered" de-duplication)
-    int64_t pairs = 0;      // pairs reported
+    int64_t queries = 0;     // buffered live proxies queried
+    int64_t cells = 0;       // cells read over the non-empty levels (Pyramid::VisitCost)
+    int64_t candidates = 0;  // entries read, the query's own entry excluded
+    int64_t overlaps = 0;    // candidates whose fat box overlaps (before the "both buffered" de-duplication)
+    int64_t pairs = 0;       // pairs reported
     int64_t maxBuffered = 0; // largest call
     std::vector<int32_t> callBuffered; // buffered proxies of every timed call, in order
 
@@ -173,8 +161,8 @@ struct QueryStats
             return;
         }
         pairs += int64_t(engine.PairCount());
-        // After the call the pyramid is the one its queries read (stale entries written, any re-tune done), and
-        // FindPairs reads, per buffered proxy, exactly what Pyramid::Visit reads: these counts are exact.
+        // After the call the pyramid is the one its queries read (stale entries written, any re-tune done),
+        // and FindPairs reads, per buffered proxy, exactly what Pyramid::Visit reads: these counts are exact.
         const quadphase::QuadtreeBroadPhase& bp = engine.Get();
         const quadphase::Pyramid& pyramid = bp.GetPyramid();
         for (ProxyId q : m_pending)
@@ -184,14 +172,16 @@ struct QueryStats
             {
                 cells += pyramid.LevelCount(level) > 0 ? pyramid.VisitCost(level, qb) : 0;
             }
-            pyramid.Visit(qb, [&](const quadphase::Entry& e) {
-                if (e.id != q)
-                {
-                    candidates += 1;
-                    overlaps += quadphase::Overlaps(e.box, qb) ? 1 : 0;
-                }
-                return true;
-            });
+            pyramid.Visit(qb,
+                          [&](const quadphase::Entry& e)
+                          {
+                              if (e.id != q)
+                              {
+                                  candidates += 1;
+                                  overlaps += quadphase::Overlaps(e.box, qb) ? 1 : 0;
+                              }
+                              return true;
+                          });
         }
     }
     std::vector<ProxyId> m_pending;
@@ -270,10 +260,10 @@ int main(int argc, char** argv)
     }
     PrintMachine(stdout);
     const std::string jsonPath = args.Get("json");
-    const std::string label = args.Get("label");
-    const auto toolJson = [&](const char* kind) {
+    const auto toolJson = [&](const char* kind)
+    {
         JsonLine j;
-        j.Str("tool", "qp-replay").Str("kind", kind).Str("label", label);
+        j.Str("tool", "qp-replay").Str("kind", kind).Str("label", args.Get("label"));
         return j;
     };
 
@@ -298,9 +288,14 @@ int main(int argc, char** argv)
             for (const auto& k : kinds)
             {
                 const double us = ParallelRegionMicros(2, k.second, blocks);
-                std::printf("omp parallel region, 2 threads, %s, %d empty iterations: %.2f us\n", k.first, blocks, us);
-                AppendLine(jsonPath, toolJson("omp_overhead").Str("schedule", k.first).Int("threads", 2)
-                                         .Int("blocks", blocks).Num("us", us).Text());
+                std::printf("omp parallel region, 2 threads, %s, %d empty iterations: %.2f us\n", k.first,
+                            blocks, us);
+                AppendLine(jsonPath, toolJson("omp_overhead")
+                                         .Str("schedule", k.first)
+                                         .Int("threads", 2)
+                                         .Int("blocks", blocks)
+                                         .Num("us", us)
+                                         .Text());
             }
         }
         if (!args.Has("trace"))
@@ -352,22 +347,32 @@ int main(int argc, char** argv)
     const std::string check = args.Get("check", "first");
     const bool perCall = args.Has("per-call");
 
-    const auto baseJson = [&](const char* kind) {
+    const auto baseJson = [&](const char* kind)
+    {
         JsonLine j = toolJson(kind);
-        j.Str("trace", loaded.name).Str("scene", index.scene).Int("size", index.size).Int("warmup", index.warmup);
+        j.Str("trace", loaded.name)
+            .Str("scene", index.scene)
+            .Int("size", index.size)
+            .Int("warmup", index.warmup);
         return j;
     };
     if (engineName != "quadtree" && engineName != "null")
     {
-        return RunPeer(PeerRun{args, loaded, engineName, [&](const char* kind) {
+        return RunPeer(PeerRun{args, loaded, engineName,
+                               [&](const char* kind)
+                               {
                                    JsonLine j = baseJson(kind);
                                    j.Str("engine", engineName).Int("threads", int(args.GetInt("threads", 1)));
                                    return j;
                                }});
     }
-    auto configJson = [&](JsonLine& j, const Config& c) {
-        j.Int("threads", c.threads).Str("schedule", ScheduleName(c.schedule)).Int("chunk", c.chunk)
-            .Int("depth", c.depth).Int("threshold", c.parallelThreshold);
+    auto configJson = [&](JsonLine& j, const Config& c)
+    {
+        j.Int("threads", c.threads)
+            .Str("schedule", kScheduleNames[int(c.schedule)])
+            .Int("chunk", c.chunk)
+            .Int("depth", c.depth)
+            .Int("threshold", c.parallelThreshold);
     };
 
     if (engineName == "null")
@@ -429,24 +434,35 @@ int main(int argc, char** argv)
                 SaveHashesOrDie(args.Get("hashes-out"), hashes);
             }
             const double q = double(std::max<int64_t>(1, qs.queries));
-            std::printf("check [%s]: %zu calls hashed, %s; depth %d, leaf %.3g m, %.3g buffered/call, %.3g cells, "
-                        "%.3g candidates, %.3g overlaps, %.3g pairs per query\n",
-                        Describe(c).c_str(), hashes.size(),
-                        bad != 0 ? "MISMATCH" : (brute.empty() && reference.empty() ? "not compared" : "identical"),
-                        st.depth, double(st.leafSize), double(qs.queries) / double(std::max<int64_t>(1, qs.calls)),
-                        double(qs.cells) / q, double(qs.candidates) / q, double(qs.overlaps) / q,
-                        double(qs.pairs) / q);
+            std::printf(
+                "check [%s]: %zu calls hashed, %s; depth %d, leaf %.3g m, %.3g buffered/call, %.3g cells, "
+                "%.3g candidates, %.3g overlaps, %.3g pairs per query\n",
+                Describe(c).c_str(), hashes.size(),
+                bad != 0 ? "MISMATCH" : (brute.empty() && reference.empty() ? "not compared" : "identical"),
+                st.depth, double(st.leafSize), double(qs.queries) / double(std::max<int64_t>(1, qs.calls)),
+                double(qs.cells) / q, double(qs.candidates) / q, double(qs.overlaps) / q,
+                double(qs.pairs) / q);
             JsonLine j = baseJson("check");
             configJson(j, c);
-            j.Int("calls_hashed", int64_t(hashes.size())).Int("mismatches", bad)
-                .Int("compared_brute", brute.empty() ? 0 : 1).Int("compared_file", reference.empty() ? 0 : 1)
-                .Int("depth_used", st.depth).Num("leaf_size", st.leafSize).Int("proxies", st.proxyCount)
-                .Int("occupied_cells", st.occupiedCells).Int("largest_cell", st.largestCell)
-                .Int("memory_bytes", st.memoryBytes).Int("timed_calls", qs.calls).Int("queries", qs.queries)
-                .Int("cells", qs.cells).Int("candidates", qs.candidates).Int("overlaps", qs.overlaps)
-                .Int("pairs", qs.pairs).Int("max_buffered", qs.maxBuffered)
-                // The memory floor's bytes over the timed steps: each query's fat box, the entries it reads (its
-                // own included), the pairs written.
+            j.Int("calls_hashed", int64_t(hashes.size()))
+                .Int("mismatches", bad)
+                .Int("compared_brute", brute.empty() ? 0 : 1)
+                .Int("compared_file", reference.empty() ? 0 : 1)
+                .Int("depth_used", st.depth)
+                .Num("leaf_size", st.leafSize)
+                .Int("proxies", st.proxyCount)
+                .Int("occupied_cells", st.occupiedCells)
+                .Int("largest_cell", st.largestCell)
+                .Int("memory_bytes", st.memoryBytes)
+                .Int("timed_calls", qs.calls)
+                .Int("queries", qs.queries)
+                .Int("cells", qs.cells)
+                .Int("candidates", qs.candidates)
+                .Int("overlaps", qs.overlaps)
+                .Int("pairs", qs.pairs)
+                .Int("max_buffered", qs.maxBuffered)
+                // The memory floor's bytes over the timed steps: each query's fat box, the entries it reads
+                // (its own included), the pairs written.
                 .Int("floor_bytes", int64_t(sizeof(quadphase::Box)) * qs.queries +
                                         int64_t(sizeof(quadphase::Entry)) * (qs.candidates + qs.queries) +
                                         int64_t(sizeof(quadphase::Pair)) * qs.pairs)
@@ -472,18 +488,26 @@ int main(int argc, char** argv)
         {
             const Config& c = configs[ci];
             const int64_t heap0 = HeapBytes();
-            auto engine = std::make_unique<CoreEngine<quadphase::QuadtreeBroadPhase>>(quadphase::FatPolicy{}, c);
+            auto engine =
+                std::make_unique<CoreEngine<quadphase::QuadtreeBroadPhase>>(quadphase::FatPolicy{}, c);
             const RunResult result = Replay(loaded, *engine);
-            const int64_t heap = HeapBytes() - heap0; // what the engine holds after the whole trace (HeapBytes)
+            // What the engine holds after the whole trace (HeapBytes).
+            const int64_t heap = HeapBytes() - heap0;
             const quadphase::Stats st = engine->Get().GetStats();
             JsonLine j = baseJson("run");
             j.Str("engine", "quadtree");
             configJson(j, c);
-            // updateSeconds: the time the core itself booked as grid maintenance during the timed steps (MoveProxy
-            // timing is off, so with deferred maintenance this is the batched re-placement inside FindPairs).
-            j.Int("rep", r).Int("depth_used", st.depth).Int("parallel_calls", st.parallelCalls)
-                .Int("reinserts", st.reinserts).Int("proxies_queried", st.proxiesQueried)
-                .Int("rebuilds", st.rebuilds).Num("replace_s", st.updateSeconds).Int("heap_bytes", heap)
+            // updateSeconds: the time the core itself booked as grid maintenance during the timed steps
+            // (MoveProxy timing is off, so with deferred maintenance this is the batched re-placement inside
+            // FindPairs).
+            j.Int("rep", r)
+                .Int("depth_used", st.depth)
+                .Int("parallel_calls", st.parallelCalls)
+                .Int("reinserts", st.reinserts)
+                .Int("proxies_queried", st.proxiesQueried)
+                .Int("rebuilds", st.rebuilds)
+                .Num("replace_s", st.updateSeconds)
+                .Int("heap_bytes", heap)
                 .Num("bytes_per_proxy", double(heap) / std::max(1, engine->ProxyCount()));
             AddRun(j, result);
             if (perCall)

@@ -80,11 +80,7 @@ struct StepIndex
     bool Save(const std::string& path, std::string& error) const
     {
         std::ofstream out(path);
-        if (!out)
-        {
-            error = "cannot open " + path + " for writing";
-            return false;
-        }
+        const bool opened = out.is_open(); // a stream that failed to open writes nothing below
         out << "qp-steps 1\n";
         out << "scene " << scene << "\nsize " << size << "\nseed " << seed << "\n";
         out << "warmup " << warmup << "\nsteps " << steps << "\n";
@@ -93,12 +89,8 @@ struct StepIndex
         {
             out << "boundary " << b << "\n";
         }
-        if (!out)
-        {
-            error = "cannot write " + path;
-            return false;
-        }
-        return true;
+        error = !opened ? "cannot open " + path + " for writing" : !out ? "cannot write " + path : "";
+        return error.empty();
     }
 
     bool Load(const std::string& path, std::string& error)
@@ -172,9 +164,23 @@ inline b2AABB ToAabb(const quadphase::Box& b)
     return a;
 }
 
+/// The paper's design's level count (bench/baselines) for leaves at least `leaf` wide in a square of side
+/// `side`: the most levels, up to `maxLevels`, that keep them so; 1 when none does (qp-replay's and
+/// qp-circles' auto).
+inline int PaperLevelsFor(double side, double leaf, int maxLevels)
+{
+    int levels = 1;
+    while (levels < maxLevels && side / double(1 << levels) >= leaf)
+    {
+        ++levels;
+    }
+    return levels;
+}
+
 // ---------------------------------------------------------------------------------------------------------------
-// Pair-set hashes: for each UpdatePairs call, the sorted unique list of pairs in recorded ids (a < b) is hashed
-// (FNV-1a over the 64-bit keys a << 32 | b). Duplicates (the stock class may report a pair twice) do not count.
+// Pair-set hashes: for each UpdatePairs call, the sorted unique list of pairs in recorded ids (a < b) is
+// hashed (FNV-1a over the 64-bit keys a << 32 | b). Duplicates (the stock class may report a pair twice) do
+// not count.
 // ---------------------------------------------------------------------------------------------------------------
 struct CallHash
 {
@@ -207,7 +213,8 @@ inline void SaveHashesOrDie(const std::string& path, const std::vector<CallHash>
     for (size_t i = 0; i < hashes.size(); ++i)
     {
         char buf[96];
-        std::snprintf(buf, sizeof(buf), "%zu %llu %016llx\n", i, static_cast<unsigned long long>(hashes[i].count),
+        std::snprintf(buf, sizeof(buf), "%zu %llu %016llx\n", i,
+                      static_cast<unsigned long long>(hashes[i].count),
                       static_cast<unsigned long long>(hashes[i].hash));
         out << buf;
     }
@@ -227,23 +234,21 @@ inline std::vector<CallHash> LoadHashesOrDie(const std::string& path)
         return hashes;
     }
     std::ifstream in(path);
-    if (!in)
+    bool ok = in.is_open();
+    std::string line;
+    while (ok && std::getline(in, line))
+    {
+        unsigned long long index = 0, count = 0, hash = 0;
+        if (!line.empty() && line[0] != '#')
+        {
+            ok = std::sscanf(line.c_str(), "%llu %llu %llx", &index, &count, &hash) == 3 &&
+                 index == hashes.size();
+            hashes.push_back(CallHash{count, hash});
+        }
+    }
+    if (!ok)
     {
         Die(1, "qp-replay: cannot read hashes from %s\n", path.c_str());
-    }
-    std::string line;
-    while (std::getline(in, line))
-    {
-        if (line.empty() || line[0] == '#')
-        {
-            continue;
-        }
-        unsigned long long index = 0, count = 0, hash = 0;
-        if (std::sscanf(line.c_str(), "%llu %llu %llx", &index, &count, &hash) != 3 || index != hashes.size())
-        {
-            Die(1, "qp-replay: cannot read hashes from %s\n", path.c_str());
-        }
-        hashes.push_back(CallHash{count, hash});
     }
     return hashes;
 }
@@ -262,9 +267,10 @@ inline int64_t CompareHashes(const std::vector<CallHash>& mine, const std::vecto
         {
             if (mismatches < 5)
             {
-                std::fprintf(stderr, "MISMATCH at UpdatePairs call %zu: %s %llu pairs, %s %llu pairs\n", i, mineName,
-                             i < mine.size() ? static_cast<unsigned long long>(mine[i].count) : 0ull, referenceName,
-                             i < reference.size() ? static_cast<unsigned long long>(reference[i].count) : 0ull);
+                std::fprintf(
+                    stderr, "MISMATCH at UpdatePairs call %zu: %s %llu pairs, %s %llu pairs\n", i, mineName,
+                    i < mine.size() ? static_cast<unsigned long long>(mine[i].count) : 0ull, referenceName,
+                    i < reference.size() ? static_cast<unsigned long long>(reference[i].count) : 0ull);
             }
             ++mismatches;
         }
@@ -284,15 +290,16 @@ struct LoadedTrace
     int32_t idBound = 0; // 1 + the largest recorded id
 };
 
-/// Loads `path` and `path + ".steps"` (or `stepsPath`), and checks that the ops form a valid call sequence: every
-/// id is live where it is used, and boundaries lie within the trace. Exits on error.
+/// Loads `path` and `path + ".steps"` (or `stepsPath`), and checks that the ops form a valid call sequence:
+/// every id is live where it is used, and boundaries lie within the trace. Exits on error.
 inline void LoadOrDie(const std::string& path, const std::string& stepsPath, LoadedTrace& loaded)
 {
     std::string error;
     loaded.path = path;
     const std::string file = path.substr(path.find_last_of('/') + 1); // npos + 1: no directory
     loaded.name = file.substr(0, file.find('.'));
-    if (!loaded.trace.Load(path, error) || !loaded.steps.Load(stepsPath.empty() ? path + ".steps" : stepsPath, error))
+    if (!loaded.trace.Load(path, error) ||
+        !loaded.steps.Load(stepsPath.empty() ? path + ".steps" : stepsPath, error))
     {
         Die(1, "%s\n", error.c_str());
     }
@@ -302,28 +309,22 @@ inline void LoadOrDie(const std::string& path, const std::string& stepsPath, Loa
         Die(1, "%s: the step file ends at op %llu but the trace has %zu ops\n", path.c_str(),
             static_cast<unsigned long long>(loaded.steps.boundary.back()), ops.size());
     }
-    int32_t bound = 0;
-    for (const TraceOp& op : ops)
-    {
-        if (op.kind == TraceOp::Create)
-        {
-            bound = std::max(bound, op.id + 1);
-        }
-    }
-    std::vector<uint8_t> live(size_t(bound), 0);
+    std::vector<uint8_t> live; // grows to 1 + the largest created id
     for (size_t i = 0; i < ops.size(); ++i)
     {
         const TraceOp& op = ops[i];
-        const bool usesId = op.kind == TraceOp::Destroy || op.kind == TraceOp::Move || op.kind == TraceOp::Touch;
+        const bool usesId =
+            op.kind == TraceOp::Destroy || op.kind == TraceOp::Move || op.kind == TraceOp::Touch;
         if (op.kind == TraceOp::Create)
         {
+            live.resize(std::max(live.size(), size_t(std::max(op.id, 0)) + 1), 0);
             if (op.id < 0 || live[size_t(op.id)])
             {
                 Die(1, "%s: op %zu creates id %d, which is live\n", path.c_str(), i, int(op.id));
             }
             live[size_t(op.id)] = 1;
         }
-        else if (usesId && (op.id < 0 || op.id >= bound || !live[size_t(op.id)]))
+        else if (usesId && (op.id < 0 || size_t(op.id) >= live.size() || !live[size_t(op.id)]))
         {
             Die(1, "%s: op %zu uses id %d, which is not live\n", path.c_str(), i, int(op.id));
         }
@@ -332,7 +333,7 @@ inline void LoadOrDie(const std::string& path, const std::string& stepsPath, Loa
             live[size_t(op.id)] = 0;
         }
     }
-    loaded.idBound = bound;
+    loaded.idBound = int32_t(live.size());
 }
 
 // ---------------------------------------------------------------------------------------------------------------
@@ -340,18 +341,19 @@ inline void LoadOrDie(const std::string& path, const std::string& stepsPath, Loa
 // ---------------------------------------------------------------------------------------------------------------
 struct StepSample
 {
-    int64_t ns = 0;       // whole broadphase work of the step
-    int64_t findNs = 0;   // UpdatePairs calls only
-    int32_t calls = 0;    // UpdatePairs calls
-    int64_t pairs = 0;    // pairs reported (as the engine reports them: the stock class may repeat a pair)
-    int32_t proxies = 0;  // live proxies when the step starts
-    int32_t ops = 0;      // recorded calls other than UpdatePairs
+    int64_t ns = 0;      // whole broadphase work of the step
+    int64_t findNs = 0;  // UpdatePairs calls only
+    int32_t calls = 0;   // UpdatePairs calls
+    int64_t pairs = 0;   // pairs reported (as the engine reports them: the stock class may repeat a pair)
+    int32_t proxies = 0; // live proxies when the step starts
+    int32_t ops = 0;     // recorded calls other than UpdatePairs
 };
 
 struct RunResult
 {
     std::vector<StepSample> steps;
-    std::vector<int32_t> callNs; // every UpdatePairs call of the timed steps, in order: its own clock-read pair
+    // Every UpdatePairs call of the timed steps, in order: its own clock-read pair.
+    std::vector<int32_t> callNs;
     double setupSeconds = 0.0; // untimed prefix (creation + warm-up)
 
     /// One field of every step, in order, and its sum.
@@ -420,7 +422,8 @@ inline void ApplyOp(Engine& engine, const TraceOp& op, std::vector<int32_t>& map
 }
 
 /// Replays the whole trace through `engine`. With `hashes` (untimed checking run), the pair set of every
-/// UpdatePairs call is hashed; `observer` hooks run around every call. Timings of a checking run are meaningless.
+/// UpdatePairs call is hashed; `observer` hooks run around every call. Timings of a checking run are
+/// meaningless.
 template <typename Engine, typename Observer = NoObserver>
 RunResult Replay(const LoadedTrace& loaded, Engine& engine, std::vector<CallHash>* hashes = nullptr,
                  Observer* observer = nullptr)
@@ -435,7 +438,8 @@ RunResult Replay(const LoadedTrace& loaded, Engine& engine, std::vector<CallHash
         hashes->clear();
     }
 
-    auto check = [&](bool timed) {
+    auto check = [&](bool timed)
+    {
         if (hashes != nullptr)
         {
             keys.clear();
@@ -495,10 +499,10 @@ RunResult Replay(const LoadedTrace& loaded, Engine& engine, std::vector<CallHash
         const int64_t t0 = NowNs();
         for (size_t i = begin; i < end; ++i)
         {
-            // The ops stream from memory (32 B each, 3.2 MB per step on particles 100k) while the engine's own
-            // data fills the caches; without this hint the loop stalled on them: particles 100k, 1 thread, 3
-            // interleaved runs each: 4.68-4.86 -> 4.21-4.29 ms per step, the null engine 0.23 -> 0.20 ms. Stock's
-            // replay (40-41 ms per step) did not measurably change.
+            // The ops stream from memory (32 B each, 3.2 MB per step on particles 100k) while the engine's
+            // own data fills the caches; without this hint the loop stalled on them: particles 100k, 1
+            // thread, 3 interleaved runs each: 4.68-4.86 -> 4.21-4.29 ms per step, the null engine 0.23 ->
+            // 0.20 ms. Stock's replay (40-41 ms per step) did not measurably change.
             __builtin_prefetch(ops.data() + std::min(i + 32, ops.size() - 1));
             const TraceOp& op = ops[i];
             if (op.kind == TraceOp::UpdatePairs)
@@ -558,12 +562,12 @@ inline void AddRun(JsonLine& j, const RunResult& r)
         .Array("steps_ops", r.Column(&StepSample::ops));
 }
 
-/// The timed runs of every engine but the quadtree (replay_peers.cpp): `repeats` replays, each of a fresh engine
-/// from make(); one JSON line per run (base("run"), the run's heap bytes per proxy as HeapBytes measures them,
-/// the per-step arrays), a line per run and the median on stdout.
+/// The timed runs of every engine but the quadtree (replay_peers.cpp): `repeats` replays, each of a fresh
+/// engine from make(); one JSON line per run (base("run"), the run's heap bytes per proxy as HeapBytes
+/// measures them, the per-step arrays), a line per run and the median on stdout.
 template <typename Make, typename Base>
-void TimedRuns(const LoadedTrace& loaded, const char* name, int repeats, const std::string& jsonPath, Make make,
-               Base base)
+void TimedRuns(const LoadedTrace& loaded, const char* name, int repeats, const std::string& jsonPath,
+               Make make, Base base)
 {
     std::vector<double> ms;
     for (int r = 0; r < repeats; ++r)
@@ -574,7 +578,10 @@ void TimedRuns(const LoadedTrace& loaded, const char* name, int repeats, const s
         const int64_t heap = HeapBytes() - heap0; // what the engine holds after the whole trace
         const double perProxy = double(heap) / std::max(1, engine->ProxyCount());
         JsonLine j = base("run");
-        j.Int("rep", r).Int("heap_bytes", heap).Int("proxies_end", engine->ProxyCount()).Num("bytes_per_proxy", perProxy);
+        j.Int("rep", r)
+            .Int("heap_bytes", heap)
+            .Int("proxies_end", engine->ProxyCount())
+            .Num("bytes_per_proxy", perProxy);
         AddRun(j, result);
         AppendLine(jsonPath, j.Text());
         const double total = double(result.Total(&StepSample::ns));

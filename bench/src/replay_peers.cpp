@@ -1,30 +1,32 @@
-// qp-replay's engines other than the quadtree core (replay.cpp): stock Box2D 2.4.1's b2BroadPhase (the reference
-// line and pair sets), brute force, the paper's design, Chipmunk2D, Bullet, and the oracle floor. Same replay and
-// timing definition as the quadtree (replay_common.h). Engine names (--engine):
+// qp-replay's engines other than the quadtree core (replay.cpp): stock Box2D 2.4.1's b2BroadPhase (the
+// reference line and pair sets), brute force, the paper's design, Chipmunk2D, Bullet, and the oracle floor.
+// Same replay and timing definition as the quadtree (replay_common.h). Engine names (--engine):
 //
 //   stock                b2BroadPhase; --hashes-out writes its pair-set hashes (the exactness reference)
 //   brute                quadphase::BruteForceBroadPhase (refused above --max-proxies, default 20000)
-//   paper                the paper's design (bench/baselines), levels --levels (auto: leaves about twice the mean fat
+//   paper                the paper's design (bench/baselines), levels --levels (auto: leaves about twice the
+//   mean fat
 //                        box), --threads; APPROXIMATE: the check counts its missed, duplicate and extra pairs
-//   cp-hash-xK           Chipmunk2D's cpSpaceHash, cell side K x the mean fat box side (K = 0.5, 1, 2, 4, 8, ...)
-//   cp-tree              Chipmunk2D's cpBBTree
-//   bt-dbvt              Bullet's btDbvtBroadphase
-//   bt-sap               Bullet's bt32BitAxisSweep3 over the trace's bounds (native mode only, below)
-//   oracle               the output alone: Box2D's protocol with the pairs of every query known in advance
+//   cp-hash-xK           Chipmunk2D's cpSpaceHash, cell side K x the mean fat box side (K = 0.5, 1, 2, 4, 8,
+//   ...) cp-tree              Chipmunk2D's cpBBTree bt-dbvt              Bullet's btDbvtBroadphase bt-sap
+//   Bullet's bt32BitAxisSweep3 over the trace's bounds (native mode only, below) oracle               the
+//   output alone: Box2D's protocol with the pairs of every query known in advance
 //
 // Two modes. Box2D's protocol (the names above): the engine keeps Box2D's fat boxes (FattenNew / Refatten,
 // bit-identical to Box2D's) and move buffer, re-indexes a proxy when its fat box changes, and at UpdatePairs
-// queries the index with every buffered proxy's fat box, keeping the ids whose fat boxes overlap it; its pairs
-// are stock's by definition, checked call by call against stock's hashes (--compare-hashes; exit 3 on a mismatch).
-// Native mode (suffix "-native", "-mM" for the displacement multiplier of the fat boxes, default Box2D's 4): the
-// peer's own per-step loop, which cannot express Box2D's contract (the pairs of the moved proxies only): it hands
-// over every overlapping pair each step (Chipmunk's cpSpatialIndexReindexQuery; Bullet's calculateOverlappingPairs
-// and its pair cache), filtered by the fat-box test into a vector. Checked call by call against the set of all
-// overlapping fat-box pairs at that call (a sort-and-sweep over the engine's boxes).
+// queries the index with every buffered proxy's fat box, keeping the ids whose fat boxes overlap it; its
+// pairs are stock's by definition, checked call by call against stock's hashes (--compare-hashes; exit 3 on a
+// mismatch). Native mode (suffix "-native", "-mM" for the displacement multiplier of the fat boxes, default
+// Box2D's 4): the peer's own per-step loop, which cannot express Box2D's contract (the pairs of the moved
+// proxies only): it hands over every overlapping pair each step (Chipmunk's cpSpatialIndexReindexQuery;
+// Bullet's calculateOverlappingPairs and its pair cache), filtered by the fat-box test into a vector. Checked
+// call by call against the set of all overlapping fat-box pairs at that call (a sort-and-sweep over the
+// engine's boxes).
 #include <cmath>
 #include <cstdio>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "box2d/b2_broad_phase.h"
@@ -40,7 +42,7 @@ namespace qpbench
 namespace
 {
 
-using quadphase::ProxyId;
+using quadphase::bench::PaperQuadtreeBroadPhase;
 using PairList = std::vector<std::pair<int32_t, int32_t>>;
 
 void AddKeys(const PairList& pairs, std::vector<uint64_t>& keys)
@@ -72,19 +74,20 @@ public:
     void PairKeys(std::vector<uint64_t>& keys) const { AddKeys(m_pairs, keys); }
     void BeginTimedSteps() {}
     void AddPair(void* a, void* b) { m_pairs.emplace_back(int32_t(intptr_t(a)), int32_t(intptr_t(b))); }
-    const b2BroadPhase& Get() const { return m_bp; }
 
 private:
     b2BroadPhase m_bp;
     PairList m_pairs;
 };
 
-/// The paper's design beside the quadtree core (exact): counts, per call, the pairs it misses, repeats or adds.
+/// The paper's design beside the quadtree core (exact): counts, per call, the pairs it misses, repeats or
+/// adds.
 class PaperChecked
 {
 public:
     PaperChecked(int levels, const Box& bounds, int threads)
-        : m_paper(levels, bounds, threads, quadphase::Schedule::Static, quadphase::bench::PaperPairReport::Buffered),
+        : m_paper(levels, bounds, threads, quadphase::Schedule::Static,
+                  quadphase::bench::PaperPairReport::Buffered),
           m_ref(quadphase::FatPolicy{}, SerialConfig())
     {
     }
@@ -96,7 +99,10 @@ public:
         return id;
     }
     void Destroy(int32_t id) { m_paper.Destroy(id), m_ref.Destroy(m_refId[size_t(id)]); }
-    void Move(int32_t id, const Box& tight, Vec2 d) { m_paper.Move(id, tight, d), m_ref.Move(m_refId[size_t(id)], tight, d); }
+    void Move(int32_t id, const Box& tight, Vec2 d)
+    {
+        m_paper.Move(id, tight, d), m_ref.Move(m_refId[size_t(id)], tight, d);
+    }
     void Touch(int32_t id) { m_paper.Touch(id), m_ref.Touch(m_refId[size_t(id)]); }
     void ShiftOrigin(Vec2 o) { m_paper.ShiftOrigin(o), m_ref.ShiftOrigin(o); }
     void UpdatePairs()
@@ -131,7 +137,7 @@ private:
         c.threads = 1; // the reference need not be fast; one thread keeps it off a busy machine's other core
         return c;
     }
-    CoreEngine<quadphase::bench::PaperQuadtreeBroadPhase> m_paper;
+    CoreEngine<PaperQuadtreeBroadPhase> m_paper;
     CoreEngine<quadphase::QuadtreeBroadPhase> m_ref;
     std::vector<int32_t> m_refId;
 };
@@ -180,7 +186,8 @@ struct FatBoxes
                 order.push_back(int32_t(i));
             }
         }
-        std::sort(order.begin(), order.end(), [&](int32_t a, int32_t b) { return fat[size_t(a)].minX < fat[size_t(b)].minX; });
+        std::sort(order.begin(), order.end(),
+                  [&](int32_t a, int32_t b) { return fat[size_t(a)].minX < fat[size_t(b)].minX; });
         for (size_t i = 0; i < order.size(); ++i)
         {
             const Box& a = fat[size_t(order[i])];
@@ -195,55 +202,33 @@ struct FatBoxes
     }
 };
 
-/// Fat boxes beside a foreign index that holds the same boxes (both modes).
-template <typename Index>
-struct Indexed
-{
-    template <typename... A>
-    explicit Indexed(A&&... a) : index(&b.fat, std::forward<A>(a)...)
-    {
-    }
-    int32_t Insert(const Box& tight, int32_t recorded)
-    {
-        const int32_t id = b.Add(tight, recorded);
-        index.Insert(id, b.fat[size_t(id)]);
-        return id;
-    }
-    void Erase(int32_t id) { index.Remove(id), b.Remove(id); }
-    /// Box2D's fat-box test; re-indexes and returns true when the fat box changed.
-    bool Refit(int32_t id, const Box& tight, Vec2 d)
-    {
-        const bool changed = quadphase::Refatten(b.policy, b.fat[size_t(id)], tight, d);
-        if (changed)
-        {
-            index.Update(id, b.fat[size_t(id)]);
-        }
-        return changed;
-    }
-    FatBoxes b;
-    Index index;
-};
-
-/// Box2D's protocol over a foreign index (see the file comment), or, with Index::kOracle, over no index at all.
-template <typename Index>
-class ProtocolEngine
+/// A foreign index beside the fat boxes it holds, in either mode (see the file comment): Box2D's protocol
+/// (with OracleIndex, over no index at all), or with kNativeMode the peer's own loop, every overlapping
+/// fat-box pair each step. `multiplier` is the fat boxes' displacement multiplier (native mode's -mM; else
+/// Box2D's).
+template <typename Index, bool kNativeMode>
+class PeerEngine
 {
 public:
     template <typename... A>
-    explicit ProtocolEngine(A&&... a) : m_x(std::forward<A>(a)...)
+    explicit PeerEngine(float multiplier, A&&... a) : m_index(&m_b.fat, std::forward<A>(a)...)
     {
+        m_b.policy.multiplier = multiplier;
     }
     int32_t Create(const Box& tight, int32_t recorded)
     {
-        const int32_t id = m_x.Insert(tight, recorded);
+        const int32_t id = m_b.Add(tight, recorded);
+        m_index.Insert(id, m_b.fat[size_t(id)]);
         Buffer(id);
         return id;
     }
-    void Destroy(int32_t id) { m_x.Erase(id); }
+    void Destroy(int32_t id) { m_index.Remove(id), m_b.Remove(id); }
     void Move(int32_t id, const Box& tight, Vec2 d)
     {
-        if (m_x.Refit(id, tight, d))
+        // Box2D's fat-box test; the index is updated (and the proxy buffered) only when the fat box changed.
+        if (quadphase::Refatten(m_b.policy, m_b.fat[size_t(id)], tight, d))
         {
+            m_index.Update(id, m_b.fat[size_t(id)]);
             Buffer(id);
         }
     }
@@ -251,104 +236,88 @@ public:
     void UpdatePairs()
     {
         m_pairs.clear();
-        for (int32_t q : m_moveBuffer)
+        if constexpr (kNativeMode)
         {
-            if (!m_b.live[size_t(q)])
-            {
-                continue;
-            }
-            const size_t before = m_pairs.size();
-            if constexpr (Index::kOracle)
-            {
-                m_index.Append(m_pairs);
-            }
-            else
-            {
-                const Box qb = m_b.fat[size_t(q)];
-                m_index.Query(qb, [&](int32_t o) {
-                    // Box2D's rule: when both are buffered, only the query of the smaller id reports the pair.
-                    if (o != q && m_b.live[size_t(o)] && !(m_b.buffered[size_t(o)] && o < q) &&
-                        quadphase::Overlaps(m_b.fat[size_t(o)], qb))
+            m_index.AllPairs(
+                [&](int32_t a, int32_t b)
+                {
+                    if (quadphase::Overlaps(m_b.fat[size_t(a)], m_b.fat[size_t(b)]))
                     {
-                        m_pairs.emplace_back(m_b.recorded[size_t(q)], m_b.recorded[size_t(o)]);
+                        m_pairs.emplace_back(m_b.recorded[size_t(a)], m_b.recorded[size_t(b)]);
                     }
                 });
-            }
-            if (perQuery != nullptr)
+        }
+        else
+        {
+            for (int32_t q : m_moveBuffer)
             {
-                perQuery->push_back(int32_t(m_pairs.size() - before));
+                if (!m_b.live[size_t(q)])
+                {
+                    continue;
+                }
+                const size_t before = m_pairs.size();
+                if constexpr (std::is_same_v<Index, OracleIndex>)
+                {
+                    m_index.Append(m_pairs);
+                }
+                else
+                {
+                    const Box qb = m_b.fat[size_t(q)];
+                    m_index.Query(
+                        qb,
+                        [&](int32_t o)
+                        {
+                            // Box2D's rule: when both are buffered, only the query of the smaller id reports
+                            // the pair.
+                            if (o != q && m_b.live[size_t(o)] && !(m_b.buffered[size_t(o)] && o < q) &&
+                                quadphase::Overlaps(m_b.fat[size_t(o)], qb))
+                            {
+                                m_pairs.emplace_back(m_b.recorded[size_t(q)], m_b.recorded[size_t(o)]);
+                            }
+                        });
+                }
+                if (perQuery != nullptr)
+                {
+                    perQuery->push_back(int32_t(m_pairs.size() - before));
+                }
             }
-        }
-        if (allPairs != nullptr)
-        {
-            allPairs->insert(allPairs->end(), m_pairs.begin(), m_pairs.end());
-        }
-        for (int32_t q : m_moveBuffer)
-        {
-            m_b.buffered[size_t(q)] = 0;
-        }
-        m_moveBuffer.clear();
-    }
-    void ShiftOrigin(Vec2) { std::fprintf(stderr, "qp-replay: ShiftOrigin is not supported here\n"), std::exit(1); }
-    int32_t ProxyCount() const { return m_b.count; }
-    size_t PairCount() const { return m_pairs.size(); }
-    void PairKeys(std::vector<uint64_t>& keys) const { AddKeys(m_pairs, keys); }
-    void BeginTimedSteps() {}
-
-    std::vector<int32_t>* perQuery = nullptr; // preparing the oracle: pairs per query, and all pairs in order
-    PairList* allPairs = nullptr;
-
-private:
-    void Buffer(int32_t id)
-    {
-        if (!m_b.buffered[size_t(id)])
-        {
-            m_b.buffered[size_t(id)] = 1;
-            m_moveBuffer.push_back(id);
-        }
-    }
-    Indexed<Index> m_x;
-    FatBoxes& m_b = m_x.b;
-    Index& m_index = m_x.index;
-    std::vector<int32_t> m_moveBuffer;
-    PairList m_pairs;
-};
-
-/// The peer's own loop (see the file comment): every overlapping fat-box pair, each step.
-template <typename Index>
-class NativeEngine
-{
-public:
-    template <typename... A>
-    explicit NativeEngine(float multiplier, A&&... a) : m_x(std::forward<A>(a)...)
-    {
-        m_b.policy.multiplier = multiplier;
-    }
-    int32_t Create(const Box& tight, int32_t recorded) { return m_x.Insert(tight, recorded); }
-    void Destroy(int32_t id) { m_x.Erase(id); }
-    void Move(int32_t id, const Box& tight, Vec2 d) { m_x.Refit(id, tight, d); }
-    void Touch(int32_t) {} // every pair is reported anyway
-    void UpdatePairs()
-    {
-        m_pairs.clear();
-        m_index.AllPairs([&](int32_t a, int32_t b) {
-            if (quadphase::Overlaps(m_b.fat[size_t(a)], m_b.fat[size_t(b)]))
+            if (allPairs != nullptr)
             {
-                m_pairs.emplace_back(m_b.recorded[size_t(a)], m_b.recorded[size_t(b)]);
+                allPairs->insert(allPairs->end(), m_pairs.begin(), m_pairs.end());
             }
-        });
+            for (int32_t q : m_moveBuffer)
+            {
+                m_b.buffered[size_t(q)] = 0;
+            }
+            m_moveBuffer.clear();
+        }
     }
-    void ShiftOrigin(Vec2) { std::fprintf(stderr, "qp-replay: ShiftOrigin is not supported here\n"), std::exit(1); }
+    void ShiftOrigin(Vec2)
+    {
+        std::fprintf(stderr, "qp-replay: ShiftOrigin is not supported here\n"), std::exit(1);
+    }
     int32_t ProxyCount() const { return m_b.count; }
     size_t PairCount() const { return m_pairs.size(); }
     void PairKeys(std::vector<uint64_t>& keys) const { AddKeys(m_pairs, keys); }
     void BeginTimedSteps() {}
     const FatBoxes& Boxes() const { return m_b; }
 
+    std::vector<int32_t>* perQuery = nullptr; // preparing the oracle: pairs per query, and all pairs in order
+    PairList* allPairs = nullptr;
+
 private:
-    Indexed<Index> m_x;
-    FatBoxes& m_b = m_x.b;
-    Index& m_index = m_x.index;
+    /// Into Box2D's move buffer (native mode has none: it reports every pair anyway).
+    void Buffer(int32_t id)
+    {
+        if (!kNativeMode && !m_b.buffered[size_t(id)])
+        {
+            m_b.buffered[size_t(id)] = 1;
+            m_moveBuffer.push_back(id);
+        }
+    }
+    FatBoxes m_b;
+    Index m_index;
+    std::vector<int32_t> m_moveBuffer;
     PairList m_pairs;
 };
 
@@ -392,12 +361,14 @@ Geometry Measure(const LoadedTrace& loaded)
     {
         const Box& b = op.box;
         if ((op.kind != TraceOp::Create && op.kind != TraceOp::Move) ||
-            !(std::isfinite(b.minX) && std::isfinite(b.minY) && std::isfinite(b.maxX) && std::isfinite(b.maxY)))
+            !(std::isfinite(b.minX) && std::isfinite(b.minY) && std::isfinite(b.maxX) &&
+              std::isfinite(b.maxY)))
         {
             continue;
         }
-        g.bounds = first ? b : Box{std::min(g.bounds.minX, b.minX), std::min(g.bounds.minY, b.minY),
-                                   std::max(g.bounds.maxX, b.maxX), std::max(g.bounds.maxY, b.maxY)};
+        g.bounds = first ? b
+                         : Box{std::min(g.bounds.minX, b.minX), std::min(g.bounds.minY, b.minY),
+                               std::max(g.bounds.maxX, b.maxX), std::max(g.bounds.maxY, b.maxY)};
         first = false;
         if (op.kind == TraceOp::Create)
         {
@@ -409,25 +380,13 @@ Geometry Measure(const LoadedTrace& loaded)
     return g;
 }
 
-/// The paper's level whose leaves are closest to twice the mean fat box side (its tables favour leaves a little
-/// larger than the objects).
-int AutoLevels(const Geometry& g)
-{
-    const double side = std::max(double(g.bounds.maxX - g.bounds.minX), double(g.bounds.maxY - g.bounds.minY));
-    int best = 1;
-    for (int levels = 1; levels <= quadphase::bench::PaperQuadtreeBroadPhase::kMaxLevels; ++levels)
-    {
-        best = side / double(1 << (levels - 1)) >= 2.0 * g.meanSide ? levels : best;
-    }
-    return best;
-}
-
 template <typename Engine>
 constexpr bool kNative = false;
 template <typename Index>
-constexpr bool kNative<NativeEngine<Index>> = true;
+constexpr bool kNative<PeerEngine<Index, true>> = true;
 
-/// Untimed check (unless `checked` is false; --check none), then the timed runs. Box2D's protocol: hashes against
+/// Untimed check (unless `checked` is false; --check none), then the timed runs. Box2D's protocol: hashes
+/// against
 /// --compare-hashes, or written to --hashes-out; native mode: NativeCheck.
 template <typename Engine, typename Make>
 int RunEngine(const PeerRun& run, Make make, bool checked = true)
@@ -456,14 +415,16 @@ int RunEngine(const PeerRun& run, Make make, bool checked = true)
             }
             const std::vector<CallHash> reference = LoadHashesOrDie(run.args.Get("compare-hashes"));
             bad = reference.empty() ? 0 : CompareHashes(hashes, reference, run.engine.c_str(), "stock");
-            j.Str("checked_against", reference.empty() ? "" : "stock").Int("compared_file", reference.empty() ? 0 : 1);
+            j.Str("checked_against", reference.empty() ? "" : "stock")
+                .Int("compared_file", reference.empty() ? 0 : 1);
         }
         std::printf("check %s: %lld calls, %s\n", run.engine.c_str(), static_cast<long long>(calls),
                     bad ? "MISMATCH" : "exact");
         j.Int("calls_hashed", calls).Int("mismatches", bad);
         AppendLine(run.args.Get("json"), j.Text());
     }
-    TimedRuns(run.loaded, run.engine.c_str(), int(run.args.GetInt("repeats", 5)), run.args.Get("json"), make, run.base);
+    TimedRuns(run.loaded, run.engine.c_str(), int(run.args.GetInt("repeats", 5)), run.args.Get("json"), make,
+              run.base);
     return bad != 0 ? 3 : 0;
 }
 
@@ -474,11 +435,13 @@ int RunPeer(const PeerRun& run)
     const std::string& e = run.engine;
     const LoadedTrace& loaded = run.loaded;
     const Geometry g = Measure(loaded);
-    // Unused in a build without Chipmunk2D and Bullet (the peers below are compiled only with them).
-    [[maybe_unused]] const bool native = e.find("-native") != std::string::npos;
+    const bool native = e.find("-native") != std::string::npos;
     const size_t x = e.find("-x"), m = e.find("-m");
+    // Unused in a build without Chipmunk2D (the peers below are compiled only with it).
     [[maybe_unused]] const double cellScale = x == std::string::npos ? 1.0 : std::atof(e.c_str() + x + 2);
-    [[maybe_unused]] const float multiplier = m == std::string::npos ? 4.0f : float(std::atof(e.c_str() + m + 2));
+    // Box2D's protocol keeps Box2D's fat boxes whatever the name says.
+    const float multiplier = native && m != std::string::npos ? float(std::atof(e.c_str() + m + 2))
+                                                              : quadphase::FatPolicy{}.multiplier;
     const std::string base = e.substr(0, std::min({e.find("-native"), x, m}));
     if (base == "stock")
     {
@@ -498,10 +461,14 @@ int RunPeer(const PeerRun& run)
     if (base == "paper")
     {
         const std::string l = run.args.Get("levels", "auto");
-        const int levels = l == "auto" ? AutoLevels(g) : std::atoi(l.c_str());
+        // auto: leaves about twice the mean fat box side (the paper's tables favour leaves a little larger
+        // than the objects).
+        const double side = std::max(g.bounds.maxX - g.bounds.minX, g.bounds.maxY - g.bounds.minY);
+        const int levels = l == "auto"
+                               ? PaperLevelsFor(side, 2.0 * g.meanSide, PaperQuadtreeBroadPhase::kMaxLevels)
+                               : std::atoi(l.c_str());
         const int threads = int(run.args.GetInt("threads", 1));
-        if (levels < quadphase::bench::PaperQuadtreeBroadPhase::kMinLevels ||
-            levels > quadphase::bench::PaperQuadtreeBroadPhase::kMaxLevels)
+        if (levels < PaperQuadtreeBroadPhase::kMinLevels || levels > PaperQuadtreeBroadPhase::kMaxLevels)
         {
             Die(2, "qp-replay: --levels must be auto or 1..9\n");
         }
@@ -513,28 +480,35 @@ int RunPeer(const PeerRun& run)
                         static_cast<long long>(checked.exact), static_cast<long long>(checked.missed),
                         static_cast<long long>(checked.duplicates), static_cast<long long>(checked.extra));
             JsonLine j = run.base("paper_check");
-            j.Int("exact_pairs", checked.exact).Int("missed", checked.missed).Int("duplicates", checked.duplicates)
-                .Int("extra", checked.extra).Int("levels", levels);
+            j.Int("exact_pairs", checked.exact)
+                .Int("missed", checked.missed)
+                .Int("duplicates", checked.duplicates)
+                .Int("extra", checked.extra)
+                .Int("levels", levels);
             AppendLine(run.args.Get("json"), j.Text());
         }
-        using E = CoreEngine<quadphase::bench::PaperQuadtreeBroadPhase>;
-        return RunEngine<E>(run, [&] {
-            return std::make_unique<E>(levels, g.bounds, threads, quadphase::Schedule::Static,
-                                       quadphase::bench::PaperPairReport::Buffered);
-        }, false);
+        using E = CoreEngine<PaperQuadtreeBroadPhase>;
+        return RunEngine<E>(
+            run,
+            [&]
+            {
+                return std::make_unique<E>(levels, g.bounds, threads, quadphase::Schedule::Static,
+                                           quadphase::bench::PaperPairReport::Buffered);
+            },
+            false);
     }
     if (base == "oracle")
     {
         // Untimed: an exact index's pairs, query by query, in the order the oracle's own move buffer asks.
-        auto prep = std::make_unique<ProtocolEngine<QuadIndex>>();
+        auto prep = std::make_unique<PeerEngine<QuadIndex, false>>(multiplier);
         std::vector<int32_t> perQuery;
         PairList pairs;
         prep->perQuery = &perQuery;
         prep->allPairs = &pairs;
         Replay(loaded, *prep);
         prep.reset();
-        using E = ProtocolEngine<OracleIndex>;
-        return RunEngine<E>(run, [&] { return std::make_unique<E>(pairs, perQuery); });
+        using E = PeerEngine<OracleIndex, false>;
+        return RunEngine<E>(run, [&] { return std::make_unique<E>(multiplier, pairs, perQuery); });
     }
 #if QP_HAVE_CHIPMUNK
     if (base == "cp-hash" || base == "cp-tree")
@@ -544,33 +518,36 @@ int RunPeer(const PeerRun& run)
         const int cells = int(std::max<int64_t>(1000, 10 * loaded.steps.proxies));
         if (native)
         {
-            using E = NativeEngine<ChipmunkIndex>;
+            using E = PeerEngine<ChipmunkIndex, true>;
             return RunEngine<E>(run, [&] { return std::make_unique<E>(multiplier, hash, cell, cells); });
         }
-        using E = ProtocolEngine<ChipmunkIndex>;
-        return RunEngine<E>(run, [&] { return std::make_unique<E>(hash, cell, cells); });
+        using E = PeerEngine<ChipmunkIndex, false>;
+        return RunEngine<E>(run, [&] { return std::make_unique<E>(multiplier, hash, cell, cells); });
     }
 #endif
 #if QP_HAVE_BULLET
     if (base == "bt-dbvt" || base == "bt-sap")
     {
         const bool sap = base == "bt-sap";
-        // The SAP's world: the trace's bounds and a margin for the fat boxes (a box beyond it is clamped: more
-        // candidates, never fewer).
-        const float pad = 0.1f * std::max(g.bounds.maxX - g.bounds.minX, g.bounds.maxY - g.bounds.minY) + 1.0f;
+        // The SAP's world: the trace's bounds and a margin for the fat boxes (a box beyond it is clamped:
+        // more candidates, never fewer).
+        const float pad =
+            0.1f * std::max(g.bounds.maxX - g.bounds.minX, g.bounds.maxY - g.bounds.minY) + 1.0f;
         const Box world{g.bounds.minX - pad, g.bounds.minY - pad, g.bounds.maxX + pad, g.bounds.maxY + pad};
         const int maxProxies = loaded.idBound;
         if (native)
         {
-            using E = NativeEngine<BulletIndex>;
-            return RunEngine<E>(run, [&] { return std::make_unique<E>(multiplier, true, sap, world, maxProxies); });
+            using E = PeerEngine<BulletIndex, true>;
+            return RunEngine<E>(run, [&]
+                                { return std::make_unique<E>(multiplier, true, sap, world, maxProxies); });
         }
         if (sap)
         {
             Die(2, "qp-replay: bt-sap runs in native mode only (its aabbTest is a linear scan)\n");
         }
-        using E = ProtocolEngine<BulletIndex>;
-        return RunEngine<E>(run, [&] { return std::make_unique<E>(false, false, world, maxProxies); });
+        using E = PeerEngine<BulletIndex, false>;
+        return RunEngine<E>(run,
+                            [&] { return std::make_unique<E>(multiplier, false, false, world, maxProxies); });
     }
 #endif
     Die(2, "qp-replay: engine '%s' is unknown or not built here (Chipmunk %s, Bullet %s)\n", e.c_str(),

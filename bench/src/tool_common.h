@@ -180,20 +180,26 @@ private:
 // ---------------------------------------------------------------------------------------------------------------
 // Machine description (printed by every tool and stored in the JSON lines).
 // ---------------------------------------------------------------------------------------------------------------
-inline std::string CpuModel()
+/// The rest of the first line of /proc file `path` that starts with `key`; `fallback` when there is none.
+inline std::string ProcField(const char* path, const std::string& key, const std::string& fallback)
 {
-    std::ifstream in("/proc/cpuinfo");
+    std::ifstream in(path);
     std::string line;
     while (std::getline(in, line))
     {
-        const size_t colon = line.find(':');
-        if (line.rfind("model name", 0) == 0 && colon != std::string::npos)
+        if (line.rfind(key, 0) == 0)
         {
-            const size_t start = line.find_first_not_of(' ', colon + 1);
-            return start == std::string::npos ? "" : line.substr(start);
+            return line.substr(key.size());
         }
     }
-    return "unknown";
+    return fallback;
+}
+
+inline std::string CpuModel()
+{
+    const std::string model = ProcField("/proc/cpuinfo", "model name", "unknown");
+    const size_t colon = model.find(':'), start = model.find_first_not_of(' ', colon + 1);
+    return colon == std::string::npos ? "unknown" : start == std::string::npos ? "" : model.substr(start);
 }
 
 inline std::string Compiler()
@@ -221,71 +227,49 @@ class JsonLine
 public:
     JsonLine& Str(const char* key, const std::string& value)
     {
-        Key(key);
-        m_s += '"';
+        std::string quoted = "\"";
         for (char c : value)
         {
             if (c == '"' || c == '\\')
             {
-                m_s += '\\';
+                quoted += '\\';
             }
-            m_s += (static_cast<unsigned char>(c) < 0x20) ? ' ' : c;
+            quoted += (static_cast<unsigned char>(c) < 0x20) ? ' ' : c;
         }
-        m_s += '"';
-        return *this;
+        return Raw(key, quoted + '"');
     }
-    JsonLine& Int(const char* key, int64_t value)
-    {
-        Key(key);
-        m_s += std::to_string(value);
-        return *this;
-    }
+    JsonLine& Int(const char* key, int64_t value) { return Raw(key, std::to_string(value)); }
     /// A number; null when it is not finite.
     JsonLine& Num(const char* key, double value)
     {
-        Key(key);
         char buf[64];
         std::snprintf(buf, sizeof(buf), "%.9g", value);
-        m_s += std::isfinite(value) ? buf : "null";
-        return *this;
+        return Raw(key, std::isfinite(value) ? buf : "null");
     }
-    /// A value already written as JSON (null, an object).
+    /// A value already written as JSON (null, an object); every other kind of value ends here.
     JsonLine& Raw(const char* key, const std::string& json)
     {
-        Key(key);
-        m_s += json;
+        m_s += std::string(m_s.empty() ? "\"" : ",\"") + key + "\":" + json;
         return *this;
     }
     /// An array of numbers, from any range (a vector, a plain array).
     template <typename Range>
     JsonLine& Array(const char* key, const Range& values)
     {
-        Key(key);
-        m_s += '[';
+        std::string list = "[";
         const char* separator = "";
         for (const auto& value : values)
         {
             char buf[64];
             std::snprintf(buf, sizeof(buf), "%s%.9g", separator, double(value));
-            m_s += buf;
+            list += buf;
             separator = ",";
         }
-        m_s += ']';
-        return *this;
+        return Raw(key, list + ']');
     }
     std::string Text() const { return "{" + m_s + "}"; }
 
 private:
-    void Key(const char* key)
-    {
-        if (!m_s.empty())
-        {
-            m_s += ',';
-        }
-        m_s += '"';
-        m_s += key;
-        m_s += "\":";
-    }
     std::string m_s;
 };
 
@@ -332,16 +316,7 @@ inline uint64_t Fnv1a64(const std::vector<uint64_t>& values, uint64_t h = 146959
 /// Peak resident set size of this process in bytes (VmHWM of /proc/self/status); 0 when unknown.
 inline int64_t PeakRss()
 {
-    std::ifstream in("/proc/self/status");
-    std::string line;
-    while (std::getline(in, line))
-    {
-        if (line.rfind("VmHWM:", 0) == 0)
-        {
-            return std::atoll(line.c_str() + 6) * 1024;
-        }
-    }
-    return 0;
+    return std::atoll(ProcField("/proc/self/status", "VmHWM:", "0").c_str()) * 1024;
 }
 
 } // namespace qpbench
