@@ -23,6 +23,11 @@
 //                       are the world's contacts after the last repeat's step.
 // "all" callbacks return 1 (every fixture the ray touches); "closest" ones return the hit's fraction (Box2D's
 // closest-hit idiom: the ray is clipped as it goes).
+//   <workload>_floor    for aabb_small and the three "all" ray workloads: the output alone. The proxies the
+//                       build's broadphase hands b2World for each query are recorded once (untimed); the
+//                       floor times only what b2World and the user callback then do with them (b2_world.cpp's
+//                       wrapper code, less GetUserData). No broadphase reports those proxies for less, so
+//                       stock's time over the floor bounds what any broadphase can gain there.
 //
 // Exactness: after the timed loop, each query's hits are sorted by fixture id and hashed (FNV-1a 64); a
 // closest-hit ray is hashed as (fixture id or -1, fraction's bits). A workload's hash combines its queries'
@@ -92,6 +97,39 @@ public:
 struct Ray
 {
     b2Vec2 p1, p2;
+};
+
+/// The fixture proxies a broadphase reports for each of a list of queries, in its order (see Bench::Record).
+struct Candidates
+{
+    std::vector<const b2FixtureProxy*> proxies; // every query's, one after the other
+    std::vector<size_t> ends;                   // end of each query's proxies
+};
+
+/// Records what b2BroadPhase::Query and RayCast report, for the floors. Never clips a ray: the "all"
+/// callbacks do not either (they return 1), so the candidates are those of the timed casts.
+class Recorder
+{
+public:
+    Recorder(const b2BroadPhase& broadPhase, Candidates& out) : m_broadPhase(broadPhase), m_out(out) {}
+    bool QueryCallback(int32 id)
+    {
+        Add(id);
+        return true;
+    }
+    float RayCastCallback(const b2RayCastInput& input, int32 id)
+    {
+        Add(id);
+        return input.maxFraction;
+    }
+
+private:
+    void Add(int32 id)
+    {
+        m_out.proxies.push_back(static_cast<const b2FixtureProxy*>(m_broadPhase.GetUserData(id)));
+    }
+    const b2BroadPhase& m_broadPhase;
+    Candidates& m_out;
 };
 
 struct Workload
@@ -241,6 +279,69 @@ public:
         }
     }
 
+    /// The candidates of each box (rays null) or each ray, from the world's own broadphase.
+    Candidates Record(const std::vector<b2AABB>& boxes, const std::vector<Ray>* rays) const
+    {
+        Candidates c;
+        const b2BroadPhase& bp = m_world.GetContactManager().m_broadPhase;
+        Recorder recorder(bp, c);
+        for (size_t i = 0; i < (rays != nullptr ? rays->size() : boxes.size()); ++i)
+        {
+            if (rays != nullptr)
+            {
+                bp.RayCast(&recorder, b2RayCastInput{(*rays)[i].p1, (*rays)[i].p2, 1.0f});
+            }
+            else
+            {
+                bp.Query(&recorder, boxes[i]);
+            }
+            c.ends.push_back(c.proxies.size());
+        }
+        return c;
+    }
+
+    /// The floor of Query: b2World::QueryAABB's per-proxy work (b2WorldQueryWrapper, less GetUserData) and
+    /// the callback, over the recorded candidates.
+    static void QueryFloor(const Candidates& c, Hits& hits)
+    {
+        AllQuery callback(hits);
+        size_t begin = 0;
+        for (size_t end : c.ends)
+        {
+            for (size_t i = begin; i < end; ++i)
+            {
+                callback.ReportFixture(c.proxies[i]->fixture);
+            }
+            hits.ends.push_back(hits.ids.size());
+            begin = end;
+        }
+    }
+
+    /// The floor of Cast(rays, false): b2World::RayCast's per-proxy work (b2WorldRayCastWrapper, less
+    /// GetUserData) and the callback, over the recorded candidates.
+    static void CastFloor(const std::vector<Ray>& rays, const Candidates& c, Hits& hits)
+    {
+        AllQuery callback(hits);
+        size_t begin = 0;
+        for (size_t r = 0; r < rays.size(); ++r)
+        {
+            const b2RayCastInput input{rays[r].p1, rays[r].p2, 1.0f};
+            for (size_t i = begin; i < c.ends[r]; ++i)
+            {
+                b2Fixture* fixture = c.proxies[i]->fixture;
+                b2RayCastOutput output;
+                if (fixture->RayCast(&output, input, c.proxies[i]->childIndex))
+                {
+                    const float fraction = output.fraction;
+                    const b2Vec2 point = (1.0f - fraction) * input.p1 + fraction * input.p2;
+                    callback.ReportFixture(fixture, point, output.normal, fraction);
+                }
+            }
+            hits.ends.push_back(hits.ids.size());
+            begin = c.ends[r];
+        }
+    }
+
     /// SetTransform of the bodies TeleportPlan chose to the places it drew.
     void Teleport(const std::vector<int32_t>& which, const std::vector<b2Transform>& to)
     {
@@ -320,6 +421,28 @@ int main(int argc, char** argv)
     run("ray_axis_closest", int64_t(axisRays.size()), [&](Hits& h) { bench.Cast(axisRays, true, h); });
     run("ray_diag_all", int64_t(diagRays.size()), [&](Hits& h) { bench.Cast(diagRays, false, h); });
     run("ray_diag_closest", int64_t(diagRays.size()), [&](Hits& h) { bench.Cast(diagRays, true, h); });
+
+    // The floors (after the workloads, before the teleport moves anything): candidates recorded untimed, then
+    // timed like the workloads. Each must give its workload's hits, or it is not that workload's output.
+    const Candidates boxCandidates = bench.Record(boxes, nullptr);
+    run("aabb_small_floor", int64_t(boxes.size()), [&](Hits& h) { Bench::QueryFloor(boxCandidates, h); });
+    for (const auto& [name, rays] :
+         {std::make_pair("ray_short_all_floor", &shortRays), std::make_pair("ray_axis_all_floor", &axisRays),
+          std::make_pair("ray_diag_all_floor", &diagRays)})
+    {
+        const Candidates c = bench.Record(boxes, rays);
+        run(name, int64_t(rays->size()), [&](Hits& h) { Bench::CastFloor(*rays, c, h); });
+    }
+    for (size_t f = work.size() - 4; f < work.size(); ++f)
+    {
+        const std::string base = work[f].name.substr(0, work[f].name.size() - 6); // less "_floor"
+        const auto of =
+            std::find_if(work.begin(), work.end(), [&](const Workload& w) { return w.name == base; });
+        if (of == work.end() || HashHits(of->hits) != HashHits(work[f].hits))
+        {
+            Die(3, "qp-query: %s does not give the hits of %s\n", work[f].name.c_str(), base.c_str());
+        }
+    }
 
     // Teleport: a new random choice of bodies and places per repeat (drawn before its clock starts), then the
     // step.
