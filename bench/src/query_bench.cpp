@@ -433,14 +433,20 @@ int main(int argc, char** argv)
         const Candidates c = bench.Record(boxes, rays);
         run(name, int64_t(rays->size()), [&](Hits& h) { Bench::CastFloor(*rays, c, h); });
     }
-    for (size_t f = work.size() - 4; f < work.size(); ++f)
+    const std::string suffix = "_floor";
+    for (const Workload& floor : work)
     {
-        const std::string base = work[f].name.substr(0, work[f].name.size() - 6); // less "_floor"
+        const size_t at = floor.name.size() - std::min(floor.name.size(), suffix.size());
+        if (floor.name.compare(at, std::string::npos, suffix) != 0)
+        {
+            continue;
+        }
+        const std::string base = floor.name.substr(0, at);
         const auto of =
             std::find_if(work.begin(), work.end(), [&](const Workload& w) { return w.name == base; });
-        if (of == work.end() || HashHits(of->hits) != HashHits(work[f].hits))
+        if (of == work.end() || HashHits(of->hits) != HashHits(floor.hits))
         {
-            Die(3, "qp-query: %s does not give the hits of %s\n", work[f].name.c_str(), base.c_str());
+            Die(3, "qp-query: %s does not give the hits of %s\n", floor.name.c_str(), base.c_str());
         }
     }
 
