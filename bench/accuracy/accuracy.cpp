@@ -306,8 +306,8 @@ int main(int argc, char** argv)
         if (n % o.checkEvery == 0)
         {
             const qa::MissedContacts m = qa::CheckMissedContacts(world, true);
-            std::set<qa::ChildPair> nowMissed(m.missedPairs.begin(),
-                                              m.missedPairs.end()); // each pair ordered
+            // each pair ordered
+            std::set<qa::ChildPair> nowMissed(m.missedPairs.begin(), m.missedPairs.end());
             for (const auto& pair : m.missedPairs)
             {
                 if (pair.first.fixture->GetBody()->GetType() == b2_staticBody ||
@@ -356,7 +356,9 @@ int main(int argc, char** argv)
     const double simulated = static_cast<double>(steps) / o.hz;
     const b2Vec2 topEnd = top != nullptr ? top->GetPosition() : b2Vec2(0.0f, 0.0f);
 
-    auto optional = [](int v) { return v >= 0 ? std::to_string(v) : std::string("null"); };
+    auto optional = [](int v) {
+        return v >= 0 ? std::to_string(v) : std::string("null");
+    };
     qpbench::JsonLine j;
     j.Str("build", kBuild);
     j.Str("scene", qs::SceneName(*id));

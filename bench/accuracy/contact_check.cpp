@@ -98,8 +98,7 @@ MissedContacts CheckMissedContacts(const b2World& world, bool keepPairs)
             MakePair({c->GetFixtureA(), c->GetChildIndexA()}, {c->GetFixtureB(), c->GetChildIndexB()}));
     }
 
-    auto visit = [&](const ChildBox& a, const ChildBox& b)
-    {
+    auto visit = [&](const ChildBox& a, const ChildBox& b) {
         if ((a.fixture->GetBody()->GetType() != b2_dynamicBody &&
              b.fixture->GetBody()->GetType() != b2_dynamicBody) ||
             !ShapesOverlap(a, b) || !BoxShouldCollide(world, a, b))
@@ -124,9 +123,12 @@ MissedContacts CheckMissedContacts(const b2World& world, bool keepPairs)
     const float inv = 1.0f / cell;
     constexpr int64_t kLargeCells = 64;
 
-    auto cellOf = [inv](float v) { return static_cast<int64_t>(std::floor(v * inv)); };
-    auto cellKey = [](int64_t x, int64_t y)
-    { return (static_cast<uint64_t>(x) << 32) ^ (static_cast<uint64_t>(y) & 0xffffffffull); };
+    auto cellOf = [inv](float v) {
+        return static_cast<int64_t>(std::floor(v * inv));
+    };
+    auto cellKey = [](int64_t x, int64_t y) {
+        return (static_cast<uint64_t>(x) << 32) ^ (static_cast<uint64_t>(y) & 0xffffffffull);
+    };
 
     std::vector<int32_t> large;
     std::vector<char> isLarge(proxies.size(), 0);

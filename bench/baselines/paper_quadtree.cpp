@@ -35,10 +35,14 @@ omp_sched_t OmpKind(Schedule schedule)
 {
     switch (schedule)
     {
-    case Schedule::Static: return omp_sched_static;
-    case Schedule::Dynamic: return omp_sched_dynamic;
-    case Schedule::Guided: return omp_sched_guided;
-    case Schedule::Auto: return omp_sched_auto;
+    case Schedule::Static:
+        return omp_sched_static;
+    case Schedule::Dynamic:
+        return omp_sched_dynamic;
+    case Schedule::Guided:
+        return omp_sched_guided;
+    case Schedule::Auto:
+        return omp_sched_auto;
     }
     return omp_sched_static;
 }
@@ -54,8 +58,7 @@ struct PaperQuadtreeBroadPhase::Locks
     std::vector<omp_lock_t> leaf; // one per leaf, row-major: the paper's Box::writelock
     omp_lock_t pairs;             // the paper's single global lock on the shared pair vector
 
-    explicit Locks(size_t leafCount)
-        : leaf(leafCount)
+    explicit Locks(size_t leafCount) : leaf(leafCount)
     {
         for (omp_lock_t& l : leaf)
         {
@@ -75,15 +78,12 @@ struct PaperQuadtreeBroadPhase::Locks
     Locks& operator=(const Locks&) = delete;
 };
 
-PaperQuadtreeBroadPhase::PaperQuadtreeBroadPhase(int levels, const Box& bounds, int threads, Schedule schedule,
-                                                 PaperPairReport report, const FatPolicy& policy)
-    : m_policy(policy)
-    , m_report(report)
-    , m_levels(std::clamp(levels, kMinLevels, kMaxLevels))
-    , m_leafSide(int32_t(1) << (m_levels - 1))
-    , m_bounds(CheckedBounds(bounds))
-    , m_threads(threads < 0 ? 0 : threads)
-    , m_schedule(schedule)
+PaperQuadtreeBroadPhase::PaperQuadtreeBroadPhase(int levels, const Box& bounds, int threads,
+                                                 Schedule schedule, PaperPairReport report,
+                                                 const FatPolicy& policy)
+    : m_policy(policy), m_report(report), m_levels(std::clamp(levels, kMinLevels, kMaxLevels)),
+      m_leafSide(int32_t(1) << (m_levels - 1)), m_bounds(CheckedBounds(bounds)),
+      m_threads(threads < 0 ? 0 : threads), m_schedule(schedule)
 {
     BuildTree();
     m_locks = std::make_unique<Locks>(m_leaves.size());
@@ -184,8 +184,8 @@ namespace
 // tested against every object of that neighbour. Then the objects after it in its own leaf.
 template <typename Emit>
 void ProcessLeaf(const std::vector<ProxyId>& objects, const Box& leafBox, int32_t leafIndex, int32_t side,
-                 const std::vector<const std::vector<ProxyId>*>& leafObjects, const ProxyPool& pool, Emit&& emit,
-                 int64_t& tests)
+                 const std::vector<const std::vector<ProxyId>*>& leafObjects, const ProxyPool& pool,
+                 Emit&& emit, int64_t& tests)
 {
     const int32_t row = leafIndex / side;
     const int32_t column = leafIndex % side;
@@ -196,9 +196,8 @@ void ProcessLeaf(const std::vector<ProxyId>& objects, const Box& leafBox, int32_
         const Box& fa = pool.Fat(a);
         const bool cross[4] = {
             fa.minY < leafBox.minY && row > 0,
-            fa.maxY > leafBox.maxY && row < side - 1,
-            fa.minX < leafBox.minX && column > 0,
-            fa.maxX > leafBox.maxX && column < side - 1,
+            fa.maxY > leafBox.maxY &&
+                row<side - 1, fa.minX<leafBox.minX && column> 0, fa.maxX> leafBox.maxX && column < side - 1,
         };
         const int32_t neighbour[4] = {leafIndex - side, leafIndex + side, leafIndex - 1, leafIndex + 1};
         for (int e = 0; e < 4; ++e)
@@ -231,7 +230,8 @@ void ProcessLeaf(const std::vector<ProxyId>& objects, const Box& leafBox, int32_
 
 void PaperQuadtreeBroadPhase::FindPairs(std::vector<Pair>& out)
 {
-    m_pool.TakeBuffer(m_work); // flags the buffered proxies "in work" for the Buffered filter, clears the buffer
+    // flags the buffered proxies "in work" for the Buffered filter, clears the buffer
+    m_pool.TakeBuffer(m_work);
     const int threads = m_threads > 0 ? m_threads : omp_get_max_threads();
     if (threads <= 1)
     {

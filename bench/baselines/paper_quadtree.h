@@ -52,15 +52,18 @@ class PaperQuadtreeBroadPhase final : public BroadPhaseInterface
 {
 public:
     static constexpr int kMinLevels = 1; ///< one leaf: the root
-    static constexpr int kMaxLevels = 9; ///< 256 x 256 leaves, the paper's largest (its linearize uses bitset<8>)
+    /// 256 x 256 leaves, the paper's largest (its linearize uses bitset<8>)
+    static constexpr int kMaxLevels = 9;
 
     /// `levels` is clamped to [kMinLevels, kMaxLevels]. `bounds` is the fixed region (the paper used the window);
     /// an empty, inverted or non-finite region is reported (ErrorCode::InvertedBox / NonFiniteBox) and replaced by
     /// Config's default bounds. `threads`: 0 = OpenMP's own setting, 1 = the paper's sequential quadtree (no
     /// parallel region, no pair lock), n >= 2 = a team of n. `schedule` is the leaf loop's OpenMP schedule
     /// (Static, Dynamic, Guided as compared in the paper; Auto is not from the paper), with OpenMP's default chunk.
-    PaperQuadtreeBroadPhase(int levels, const Box& bounds, int threads = 0, Schedule schedule = Schedule::Static,
-                            PaperPairReport report = PaperPairReport::All, const FatPolicy& policy = FatPolicy{});
+    PaperQuadtreeBroadPhase(int levels, const Box& bounds, int threads = 0,
+                            Schedule schedule = Schedule::Static,
+                            PaperPairReport report = PaperPairReport::All,
+                            const FatPolicy& policy = FatPolicy{});
     ~PaperQuadtreeBroadPhase() override;
 
     PaperQuadtreeBroadPhase(const PaperQuadtreeBroadPhase&) = delete;
@@ -97,8 +100,9 @@ private:
     struct Node
     {
         Box box;
-        std::vector<int32_t> children; // indices into m_nodes, in the paper's order TL, TR, BL, BR (see README)
-        std::vector<ProxyId> objects;  // leaves only
+        // indices into m_nodes, in the paper's order TL, TR, BL, BR (see README)
+        std::vector<int32_t> children;
+        std::vector<ProxyId> objects; // leaves only
         int32_t leafIndex = -1; // row-major index once linearized (the paper's boxIndex); -1 for inner nodes
     };
     struct Locks; // omp_lock_t per leaf and the one pair lock; defined in the .cpp so omp.h stays out of here
@@ -119,8 +123,8 @@ private:
     Box m_bounds;
     int m_threads;
     Schedule m_schedule;
-    std::vector<Node> m_nodes;       // m_nodes[0] is the root
-    std::vector<int32_t> m_leaves;   // node index of each leaf, row-major after Linearize (the paper's `leafs`)
+    std::vector<Node> m_nodes;     // m_nodes[0] is the root
+    std::vector<int32_t> m_leaves; // node index of each leaf, row-major after Linearize (the paper's `leafs`)
     std::unique_ptr<Locks> m_locks;
     int64_t m_lastTests = 0;
     int64_t m_lastFound = 0;

@@ -61,8 +61,7 @@ int main(int argc, char** argv)
         std::vector<b2AABB> boxes(static_cast<size_t>(n));
         std::vector<int32> ids(static_cast<size_t>(n)); // stock proxy ids are tree node ids, not 0..n-1
         uint32_t state = 12345u;
-        auto next = [&state]()
-        {
+        auto next = [&state]() {
             state = state * 1664525u + 1013904223u;
             return float(state >> 8) * (1.0f / 16777216.0f);
         };

@@ -92,8 +92,7 @@ int main(int argc, char** argv)
                 QP_SOAK_VARIANT, steps, size, seed, info.description);
     std::printf("%10s %8s %8s %10s %10s %12s\n", "step", "bodies", "proxies", "VmRSS_KiB", "VmHWM_KiB",
                 "bp_heap_KiB");
-    auto report = [&](long step)
-    {
+    auto report = [&](long step) {
         const Rss rss;
         long heap = -1;
 #if defined(QUADPHASE_VARIANT_QUADPHASE)

@@ -57,8 +57,7 @@ struct Circles
           side(std::sqrt(float(n) * 3.14159265f * kRadius * kRadius / kAreaFraction))
     {
         uint64_t state = seed * 0x9E3779B97F4A7C15ull + 1;
-        auto next = [&]()
-        {
+        auto next = [&]() {
             state ^= state << 13;
             state ^= state >> 7;
             state ^= state << 17;
@@ -226,8 +225,8 @@ public:
             m_lastY[size_t(i)] = c.y[size_t(i)];
         }
         m_bp.UpdatePairs(this);
-        return m_list.Collide(c, [&](int32_t a, int32_t b)
-                              { return m_bp.TestOverlap(m_ids[size_t(a)], m_ids[size_t(b)]); });
+        return m_list.Collide(
+            c, [&](int32_t a, int32_t b) { return m_bp.TestOverlap(m_ids[size_t(a)], m_ids[size_t(b)]); });
     }
     void AddPair(void* a, void* b) { m_list.Add(int32_t(intptr_t(a)), int32_t(intptr_t(b))); }
 
@@ -264,11 +263,9 @@ public:
         {
             m_list.Add(int32_t(intptr_t(m_bp.GetUserData(p.a))), int32_t(intptr_t(m_bp.GetUserData(p.b))));
         }
-        return m_list.Collide(c,
-                              [&](int32_t a, int32_t b) {
-                                  return quadphase::Overlaps(m_bp.GetFatBox(m_ids[size_t(a)]),
-                                                             m_bp.GetFatBox(m_ids[size_t(b)]));
-                              });
+        return m_list.Collide(c, [&](int32_t a, int32_t b) {
+            return quadphase::Overlaps(m_bp.GetFatBox(m_ids[size_t(a)]), m_bp.GetFatBox(m_ids[size_t(b)]));
+        });
     }
 
 private:
@@ -397,8 +394,7 @@ int main(int argc, char** argv)
     }
     const std::string jsonPath = args.Get("json");
     // A JSON line's first fields, the same on every line.
-    auto base = [&](const char* kind)
-    {
+    auto base = [&](const char* kind) {
         return JsonLine()
             .Str("tool", "qp-circles")
             .Str("kind", kind)
@@ -412,13 +408,14 @@ int main(int argc, char** argv)
     };
 
     const int64_t start = NowNs();
-    auto elapsed = [&] { return double(NowNs() - start) * 1e-9; };
+    auto elapsed = [&] {
+        return double(NowNs() - start) * 1e-9;
+    };
     long lo = 0, hi = 0; // largest pass, smallest fail: each evaluation moves one of them
     long n = std::max(2L, args.GetInt("start", 1000));
     bool capped = false;
     int evaluations = 0;
-    auto evaluate = [&](long count)
-    {
+    auto evaluate = [&](long count) {
         const Evaluation e = Evaluate(s, int(count));
         ++evaluations;
         const bool pass = !e.aborted && e.medianMs < s.budgetMs;
@@ -436,8 +433,7 @@ int main(int argc, char** argv)
         (pass ? lo : hi) = count;
     };
     // Checked before each evaluation: past --max-seconds (or `over`: past --max-n), the search stops, capped.
-    auto cap = [&](bool over)
-    {
+    auto cap = [&](bool over) {
         capped = over || elapsed() > maxSeconds;
         return capped;
     };

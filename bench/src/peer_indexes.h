@@ -51,8 +51,7 @@ public:
         std::pair context{&fn, &m_bp};
         m_bp.Query(
             b,
-            [](void* c, quadphase::ProxyId p)
-            {
+            [](void* c, quadphase::ProxyId p) {
                 const auto& [f, bp] = *static_cast<decltype(context)*>(c);
                 (*f)(int32_t(intptr_t(bp->GetUserData(p))));
                 return true;

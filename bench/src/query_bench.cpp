@@ -403,8 +403,7 @@ int main(int argc, char** argv)
     const std::vector<b2AABB> teleportBoxes = bench.Boxes(args.GetInt("teleport-queries", 2000), querySide);
 
     std::vector<Workload> work;
-    auto run = [&](const char* name, int64_t queries, auto&& body)
-    {
+    auto run = [&](const char* name, int64_t queries, auto&& body) {
         work.push_back(Workload{name, {}, {}, queries});
         Workload& w = work.back();
         for (long r = 0; r < repeats; ++r)

@@ -16,15 +16,15 @@
 // The world is built with the quadphase build of Box2D; the calls it makes do not depend on the broadphase beyond
 // the order of new contacts (equally valid simulation).
 #include <cinttypes>
-#include <fstream>
 #include <cstdio>
+#include <fstream>
 #include <string>
 
 #include "box2d/box2d.h"
+#include "phase.h"
 #include "quadphase/box2d.h"
 #include "quadphase/fat_policy.h"
 #include "quadphase_scenes/scenes.h"
-#include "phase.h"
 #include "replay_common.h"
 
 int main(int argc, char** argv)
@@ -65,7 +65,8 @@ int main(int argc, char** argv)
     const ProxyPool& pool = quadtree.GetPool();
     if (quadtree.GetStats().updatePairsCalls != 0)
     {
-        qpbench::Die(1, "qp-record: the scene builder already ran UpdatePairs; cannot write a creation prefix\n");
+        qpbench::Die(
+            1, "qp-record: the scene builder already ran UpdatePairs; cannot write a creation prefix\n");
     }
     const FatPolicy policy{};
     for (ProxyId id = 0; id < pool.IdBound(); ++id)
@@ -79,8 +80,10 @@ int main(int argc, char** argv)
                         proxy->aabb.upperBound.y};
         if (!SameBits(FattenNew(policy, tight), pool.Fat(id)))
         {
-            qpbench::Die(1, "qp-record: proxy %d's fat box is not its creation box fattened (the scene builder "
-                            "moved it); cannot write an exact creation prefix\n", int(id));
+            qpbench::Die(1,
+                         "qp-record: proxy %d's fat box is not its creation box fattened (the scene builder "
+                         "moved it); cannot write an exact creation prefix\n",
+                         int(id));
         }
         trace.Add(TraceOp{TraceOp::Create, id, tight, Vec2{0.0f, 0.0f}});
     }
@@ -96,7 +99,8 @@ int main(int argc, char** argv)
     index.boundary.push_back(trace.Ops().size());
     int64_t warmupNs = 0, recordNs = 0;
     qpbench::Phase phase = qpbench::Falling;
-    std::string phases = "# qp-phases 1: the phase after each step (phase.h), one line per step from step 0\n";
+    std::string phases =
+        "# qp-phases 1: the phase after each step (phase.h), one line per step from step 0\n";
     for (int s = 0; s < warmup + steps; ++s)
     {
         const int64_t t0 = qpbench::NowNs();
@@ -128,12 +132,13 @@ int main(int argc, char** argv)
         timedCalls += ops[i].kind == TraceOp::UpdatePairs ? 1 : 0;
         timedMoves += ops[i].kind == TraceOp::Move ? 1 : 0;
     }
-    std::printf("scene %s size %d seed %u: built in %.2f s; %d warm-up steps in %.2f s, %d recorded steps in %.2f s "
-                "(Box2D, quadphase build, trace recording on)\n",
-                info.name, size, seed, buildSeconds, warmup, double(warmupNs) * 1e-9, steps, double(recordNs) * 1e-9);
+    std::printf(
+        "scene %s size %d seed %u: built in %.2f s; %d warm-up steps in %.2f s, %d recorded steps in %.2f s "
+        "(Box2D, quadphase build, trace recording on)\n",
+        info.name, size, seed, buildSeconds, warmup, double(warmupNs) * 1e-9, steps, double(recordNs) * 1e-9);
     std::printf("bodies %" PRId64 ", proxies %" PRId64 "\n", index.bodies, index.proxies);
-    std::printf("ops %zu (%" PRId64 " in the %d timed steps: %" PRId64 " MoveProxy), UpdatePairs calls %" PRId64
-                " (%" PRId64 " in the timed steps)\n",
+    std::printf("ops %zu (%" PRId64 " in the %d timed steps: %" PRId64
+                " MoveProxy), UpdatePairs calls %" PRId64 " (%" PRId64 " in the timed steps)\n",
                 ops.size(), timedOps, steps, timedMoves, trace.UpdatePairsCount(), timedCalls);
     std::printf("wrote %s (%.1f MB) and %s.steps\n", out.c_str(),
                 double(ops.size() * sizeof(TraceOp)) / (1024.0 * 1024.0), out.c_str());

@@ -172,16 +172,14 @@ struct QueryStats
             {
                 cells += pyramid.LevelCount(level) > 0 ? pyramid.VisitCost(level, qb) : 0;
             }
-            pyramid.Visit(qb,
-                          [&](const quadphase::Entry& e)
-                          {
-                              if (e.id != q)
-                              {
-                                  candidates += 1;
-                                  overlaps += quadphase::Overlaps(e.box, qb) ? 1 : 0;
-                              }
-                              return true;
-                          });
+            pyramid.Visit(qb, [&](const quadphase::Entry& e) {
+                if (e.id != q)
+                {
+                    candidates += 1;
+                    overlaps += quadphase::Overlaps(e.box, qb) ? 1 : 0;
+                }
+                return true;
+            });
         }
     }
     std::vector<ProxyId> m_pending;
@@ -260,8 +258,7 @@ int main(int argc, char** argv)
     }
     PrintMachine(stdout);
     const std::string jsonPath = args.Get("json");
-    const auto toolJson = [&](const char* kind)
-    {
+    const auto toolJson = [&](const char* kind) {
         JsonLine j;
         j.Str("tool", "qp-replay").Str("kind", kind).Str("label", args.Get("label"));
         return j;
@@ -347,8 +344,7 @@ int main(int argc, char** argv)
     const std::string check = args.Get("check", "first");
     const bool perCall = args.Has("per-call");
 
-    const auto baseJson = [&](const char* kind)
-    {
+    const auto baseJson = [&](const char* kind) {
         JsonLine j = toolJson(kind);
         j.Str("trace", loaded.name)
             .Str("scene", index.scene)
@@ -358,16 +354,13 @@ int main(int argc, char** argv)
     };
     if (engineName != "quadtree" && engineName != "null")
     {
-        return RunPeer(PeerRun{args, loaded, engineName,
-                               [&](const char* kind)
-                               {
+        return RunPeer(PeerRun{args, loaded, engineName, [&](const char* kind) {
                                    JsonLine j = baseJson(kind);
                                    j.Str("engine", engineName).Int("threads", int(args.GetInt("threads", 1)));
                                    return j;
                                }});
     }
-    auto configJson = [&](JsonLine& j, const Config& c)
-    {
+    auto configJson = [&](JsonLine& j, const Config& c) {
         j.Int("threads", c.threads)
             .Str("schedule", kScheduleNames[int(c.schedule)])
             .Int("chunk", c.chunk)
@@ -515,7 +508,9 @@ int main(int argc, char** argv)
                 j.Array("calls_ns", result.callNs);
             }
             AppendLine(jsonPath, j.Text());
-            const auto perStep = [&](auto field) { return double(result.Total(field)) / index.steps; };
+            const auto perStep = [&](auto field) {
+                return double(result.Total(field)) / index.steps;
+            };
             perConfigMs[ci].push_back(perStep(&StepSample::ns) * 1e-6);
             perConfigFindMs[ci].push_back(perStep(&StepSample::findNs) * 1e-6);
             meanProxies[ci] = perStep(&StepSample::proxies);

@@ -109,8 +109,7 @@ struct StepIndex
             std::istringstream fields(line);
             std::string key;
             fields >> key;
-            const auto field = [&](const char* name, auto& value)
-            {
+            const auto field = [&](const char* name, auto& value) {
                 if (key == name)
                 {
                     fields >> value;
@@ -438,8 +437,7 @@ RunResult Replay(const LoadedTrace& loaded, Engine& engine, std::vector<CallHash
         hashes->clear();
     }
 
-    auto check = [&](bool timed)
-    {
+    auto check = [&](bool timed) {
         if (hashes != nullptr)
         {
             keys.clear();

@@ -238,14 +238,12 @@ public:
         m_pairs.clear();
         if constexpr (kNativeMode)
         {
-            m_index.AllPairs(
-                [&](int32_t a, int32_t b)
+            m_index.AllPairs([&](int32_t a, int32_t b) {
+                if (quadphase::Overlaps(m_b.fat[size_t(a)], m_b.fat[size_t(b)]))
                 {
-                    if (quadphase::Overlaps(m_b.fat[size_t(a)], m_b.fat[size_t(b)]))
-                    {
-                        m_pairs.emplace_back(m_b.recorded[size_t(a)], m_b.recorded[size_t(b)]);
-                    }
-                });
+                    m_pairs.emplace_back(m_b.recorded[size_t(a)], m_b.recorded[size_t(b)]);
+                }
+            });
         }
         else
         {
@@ -263,18 +261,15 @@ public:
                 else
                 {
                     const Box qb = m_b.fat[size_t(q)];
-                    m_index.Query(
-                        qb,
-                        [&](int32_t o)
+                    m_index.Query(qb, [&](int32_t o) {
+                        // Box2D's rule: when both are buffered, only the query of the smaller id reports
+                        // the pair.
+                        if (o != q && m_b.live[size_t(o)] && !(m_b.buffered[size_t(o)] && o < q) &&
+                            quadphase::Overlaps(m_b.fat[size_t(o)], qb))
                         {
-                            // Box2D's rule: when both are buffered, only the query of the smaller id reports
-                            // the pair.
-                            if (o != q && m_b.live[size_t(o)] && !(m_b.buffered[size_t(o)] && o < q) &&
-                                quadphase::Overlaps(m_b.fat[size_t(o)], qb))
-                            {
-                                m_pairs.emplace_back(m_b.recorded[size_t(q)], m_b.recorded[size_t(o)]);
-                            }
-                        });
+                            m_pairs.emplace_back(m_b.recorded[size_t(q)], m_b.recorded[size_t(o)]);
+                        }
+                    });
                 }
                 if (perQuery != nullptr)
                 {
@@ -490,8 +485,7 @@ int RunPeer(const PeerRun& run)
         using E = CoreEngine<PaperQuadtreeBroadPhase>;
         return RunEngine<E>(
             run,
-            [&]
-            {
+            [&] {
                 return std::make_unique<E>(levels, g.bounds, threads, quadphase::Schedule::Static,
                                            quadphase::bench::PaperPairReport::Buffered);
             },
@@ -538,8 +532,8 @@ int RunPeer(const PeerRun& run)
         if (native)
         {
             using E = PeerEngine<BulletIndex, true>;
-            return RunEngine<E>(run, [&]
-                                { return std::make_unique<E>(multiplier, true, sap, world, maxProxies); });
+            return RunEngine<E>(
+                run, [&] { return std::make_unique<E>(multiplier, true, sap, world, maxProxies); });
         }
         if (sap)
         {

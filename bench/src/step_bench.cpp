@@ -149,7 +149,8 @@ int main(int argc, char** argv)
     const int64_t filtered0 = filter.calls;
     std::vector<double> step, collide, solve, broadphase, toi;
     PhaseSamples phases[PhaseCount];
-    std::vector<int> stepPhase, stepAwake; // per step: for comparing phases over the same steps in both builds
+    // per step: for comparing phases over the same steps in both builds
+    std::vector<int> stepPhase, stepAwake;
     double contacts = 0.0;
     const int64_t t0 = NowNs();
     for (int s = 0; s < steps; ++s)
@@ -204,7 +205,9 @@ int main(int argc, char** argv)
         .Int("peak_rss_bytes", PeakRss());
     if (args.Has("per-step"))
     {
-        j.Array("steps_step_ms", step).Array("steps_bp_ms", broadphase).Array("steps_phase", stepPhase)
+        j.Array("steps_step_ms", step)
+            .Array("steps_bp_ms", broadphase)
+            .Array("steps_phase", stepPhase)
             .Array("steps_awake", stepAwake);
     }
     for (int k = 0; k < PhaseCount; ++k)

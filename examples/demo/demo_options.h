@@ -78,8 +78,7 @@ inline Options ParseOptions(const std::vector<std::string>& args, Accepts accept
             name = name.substr(0, equals);
             hasValue = true;
         }
-        auto takeValue = [&]() -> std::string
-        {
+        auto takeValue = [&]() -> std::string {
             if (hasValue)
             {
                 return value;
@@ -90,8 +89,7 @@ inline Options ParseOptions(const std::vector<std::string>& args, Accepts accept
             }
             return args[++i];
         };
-        auto noValue = [&]()
-        {
+        auto noValue = [&]() {
             if (hasValue)
             {
                 throw UsageError("option " + name + " takes no value");

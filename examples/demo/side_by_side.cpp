@@ -76,20 +76,17 @@ RunResult ParseFlatJson(const std::string& text)
 {
     RunResult result;
     size_t i = 0;
-    auto skipSpace = [&]()
-    {
+    auto skipSpace = [&]() {
         while (i < text.size() && std::isspace(static_cast<unsigned char>(text[i])))
         {
             ++i;
         }
     };
-    auto fail = [&](const char* what) -> std::runtime_error
-    {
+    auto fail = [&](const char* what) -> std::runtime_error {
         return std::runtime_error(std::string("cannot parse the worker's JSON output: ") + what +
                                   " at offset " + std::to_string(i));
     };
-    auto parseString = [&]()
-    {
+    auto parseString = [&]() {
         if (i >= text.size() || text[i] != '"')
         {
             throw fail("expected a string");

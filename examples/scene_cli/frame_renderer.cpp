@@ -71,8 +71,12 @@ void FrameRenderer::Render(const b2World& world, const Overlay& overlay, bool dr
     cairo_t* c = cr.get();
     // World coordinates are converted by hand (double precision: a map 50 km from the origin keeps its
     // millimetres), so line widths stay in pixels.
-    auto px = [this](double x) { return m_offsetX + m_scale * x; };
-    auto py = [this](double y) { return m_offsetY - m_scale * y; };
+    auto px = [this](double x) {
+        return m_offsetX + m_scale * x;
+    };
+    auto py = [this](double y) {
+        return m_offsetY - m_scale * y;
+    };
     const double viewMinX = (0.0 - m_offsetX) / m_scale;
     const double viewMaxX = (double(m_width) - m_offsetX) / m_scale;
     const double viewMaxY = (m_offsetY - 0.0) / m_scale;

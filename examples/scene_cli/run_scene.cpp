@@ -141,8 +141,7 @@ int Run(const Options& options)
                     double(view.minY), double(view.maxY));
     }
 
-    auto renderFrame = [&]()
-    {
+    auto renderFrame = [&]() {
         const Overlay overlay = options.overlay ? CollectOverlay(world) : Overlay{};
         FrameText text;
         text.lines.push_back(Format("%s %d  seed %" PRIu32 "  broadphase: %s", options.scene.c_str(),

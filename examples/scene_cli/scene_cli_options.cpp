@@ -99,8 +99,7 @@ void Walk(const std::vector<std::string>& args, Handler&& handle)
             name = name.substr(0, equals);
             hasValue = true;
         }
-        auto takeValue = [&]() -> std::string
-        {
+        auto takeValue = [&]() -> std::string {
             if (hasValue)
             {
                 return value;
@@ -111,8 +110,7 @@ void Walk(const std::vector<std::string>& args, Handler&& handle)
             }
             return args[++i];
         };
-        auto noValue = [&]()
-        {
+        auto noValue = [&]() {
             if (hasValue)
             {
                 throw UsageError("option " + name + " takes no value");
@@ -149,109 +147,106 @@ Options ParseOptions(const std::vector<std::string>& args)
 {
     Options options;
     bool everyGiven = false;
-    Walk(args,
-         [&](const std::string& name, auto&& takeValue, auto&& noValue, const std::string& raw)
-         {
-             if (name == "--help" || name == "-h")
-             {
-                 noValue();
-                 options.help = true;
-             }
-             else if (name == "--scene")
-             {
-                 const std::string value = takeValue();
-                 const auto id = scenes::ParseSceneName(value);
-                 if (!id)
-                 {
-                     throw UsageError("unknown scene '" + value + "' (scenes: " + scenes::SceneNameList() +
-                                      ")");
-                 }
-                 options.sceneId = *id;
-                 options.scene = scenes::SceneName(*id);
-             }
-             else if (name == "--size")
-             {
-                 options.size = static_cast<int>(ParseInteger(name, takeValue(), 1, 100000000));
-             }
-             else if (name == "--steps")
-             {
-                 options.steps = static_cast<int>(ParseInteger(name, takeValue(), 1, 10000000));
-             }
-             else if (name == "--seed")
-             {
-                 options.seed = static_cast<uint32_t>(ParseInteger(name, takeValue(), 0, UINT32_MAX));
-             }
-             else if (name == "--broadphase")
-             {
-                 options.broadphase = CheckBroadphase(name, takeValue());
-             }
-             else if (name == "--threads")
-             {
-                 options.threads = static_cast<int>(ParseInteger(name, takeValue(), 0, 256));
-             }
-             else if (name == "--png")
-             {
-                 options.pngDir = takeValue();
-                 if (options.pngDir.empty())
-                 {
-                     throw UsageError("option --png needs a directory name");
-                 }
-             }
-             else if (name == "--every")
-             {
-                 options.every = static_cast<int>(ParseInteger(name, takeValue(), 1, 10000000));
-                 everyGiven = true;
-             }
-             else if (name == "--width")
-             {
-                 options.width = static_cast<int>(ParseInteger(name, takeValue(), 16, 8192));
-             }
-             else if (name == "--height")
-             {
-                 options.height = static_cast<int>(ParseInteger(name, takeValue(), 16, 8192));
-             }
-             else if (name == "--view")
-             {
-                 options.view = ParseView(name, takeValue());
-                 options.autoView = false;
-             }
-             else if (name == "--no-overlay")
-             {
-                 noValue();
-                 options.overlay = false;
-             }
-             else if (name == "--gif")
-             {
-                 options.gifPath = takeValue();
-                 if (!EndsWith(options.gifPath, ".gif"))
-                 {
-                     throw UsageError("option --gif expects a file name ending in .gif, got '" +
-                                      options.gifPath + "'");
-                 }
-             }
-             else if (name == "--mp4")
-             {
-                 options.mp4Path = takeValue();
-                 if (!EndsWith(options.mp4Path, ".mp4"))
-                 {
-                     throw UsageError("option --mp4 expects a file name ending in .mp4, got '" +
-                                      options.mp4Path + "'");
-                 }
-             }
-             else if (name == "--fps")
-             {
-                 options.fps = static_cast<int>(ParseInteger(name, takeValue(), 1, 120));
-             }
-             else if (name == "--quiet")
-             {
-                 noValue();
-                 options.quiet = true;
-             }
-             else
-             {
-                 throw UsageError("unknown option '" + raw + "' (see --help)");
-             }
-         });
+    Walk(args, [&](const std::string& name, auto&& takeValue, auto&& noValue, const std::string& raw) {
+        if (name == "--help" || name == "-h")
+        {
+            noValue();
+            options.help = true;
+        }
+        else if (name == "--scene")
+        {
+            const std::string value = takeValue();
+            const auto id = scenes::ParseSceneName(value);
+            if (!id)
+            {
+                throw UsageError("unknown scene '" + value + "' (scenes: " + scenes::SceneNameList() + ")");
+            }
+            options.sceneId = *id;
+            options.scene = scenes::SceneName(*id);
+        }
+        else if (name == "--size")
+        {
+            options.size = static_cast<int>(ParseInteger(name, takeValue(), 1, 100000000));
+        }
+        else if (name == "--steps")
+        {
+            options.steps = static_cast<int>(ParseInteger(name, takeValue(), 1, 10000000));
+        }
+        else if (name == "--seed")
+        {
+            options.seed = static_cast<uint32_t>(ParseInteger(name, takeValue(), 0, UINT32_MAX));
+        }
+        else if (name == "--broadphase")
+        {
+            options.broadphase = CheckBroadphase(name, takeValue());
+        }
+        else if (name == "--threads")
+        {
+            options.threads = static_cast<int>(ParseInteger(name, takeValue(), 0, 256));
+        }
+        else if (name == "--png")
+        {
+            options.pngDir = takeValue();
+            if (options.pngDir.empty())
+            {
+                throw UsageError("option --png needs a directory name");
+            }
+        }
+        else if (name == "--every")
+        {
+            options.every = static_cast<int>(ParseInteger(name, takeValue(), 1, 10000000));
+            everyGiven = true;
+        }
+        else if (name == "--width")
+        {
+            options.width = static_cast<int>(ParseInteger(name, takeValue(), 16, 8192));
+        }
+        else if (name == "--height")
+        {
+            options.height = static_cast<int>(ParseInteger(name, takeValue(), 16, 8192));
+        }
+        else if (name == "--view")
+        {
+            options.view = ParseView(name, takeValue());
+            options.autoView = false;
+        }
+        else if (name == "--no-overlay")
+        {
+            noValue();
+            options.overlay = false;
+        }
+        else if (name == "--gif")
+        {
+            options.gifPath = takeValue();
+            if (!EndsWith(options.gifPath, ".gif"))
+            {
+                throw UsageError("option --gif expects a file name ending in .gif, got '" + options.gifPath +
+                                 "'");
+            }
+        }
+        else if (name == "--mp4")
+        {
+            options.mp4Path = takeValue();
+            if (!EndsWith(options.mp4Path, ".mp4"))
+            {
+                throw UsageError("option --mp4 expects a file name ending in .mp4, got '" + options.mp4Path +
+                                 "'");
+            }
+        }
+        else if (name == "--fps")
+        {
+            options.fps = static_cast<int>(ParseInteger(name, takeValue(), 1, 120));
+        }
+        else if (name == "--quiet")
+        {
+            noValue();
+            options.quiet = true;
+        }
+        else
+        {
+            throw UsageError("unknown option '" + raw + "' (see --help)");
+        }
+    });
     if (options.help)
     {
         return options;

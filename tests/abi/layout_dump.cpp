@@ -19,8 +19,10 @@
 #undef private
 #undef protected
 
-#define QP_OFFSET(type, member, name) std::printf("offsetof(%s, %s) %zu\n", #type, name, offsetof(type, member))
-#define QP_SIZE(type) std::printf("sizeof(%s) %zu\nalignof(%s) %zu\n", #type, sizeof(type), #type, alignof(type))
+#define QP_OFFSET(type, member, name)                                                                        \
+    std::printf("offsetof(%s, %s) %zu\n", #type, name, offsetof(type, member))
+#define QP_SIZE(type)                                                                                        \
+    std::printf("sizeof(%s) %zu\nalignof(%s) %zu\n", #type, sizeof(type), #type, alignof(type))
 
 int main()
 {

@@ -61,9 +61,9 @@ uint64_t Index(b2Fixture* f)
 }
 
 // The contact set, sorted: (fixture index A, fixture index B, touching), A < B.
-std::vector<std::pair<std::pair<uint64_t, uint64_t>, int> > Contacts(b2World& world)
+std::vector<std::pair<std::pair<uint64_t, uint64_t>, int>> Contacts(b2World& world)
 {
-    std::vector<std::pair<std::pair<uint64_t, uint64_t>, int> > out;
+    std::vector<std::pair<std::pair<uint64_t, uint64_t>, int>> out;
     for (b2Contact* c = world.GetContactList(); c != nullptr; c = c->GetNext())
     {
         uint64_t a = Index(c->GetFixtureA());
@@ -80,7 +80,7 @@ std::vector<std::pair<std::pair<uint64_t, uint64_t>, int> > Contacts(b2World& wo
 
 void PrintContacts(const char* scene, int step, b2World& world)
 {
-    const std::vector<std::pair<std::pair<uint64_t, uint64_t>, int> > contacts = Contacts(world);
+    const std::vector<std::pair<std::pair<uint64_t, uint64_t>, int>> contacts = Contacts(world);
     Hash h;
     int touching = 0;
     for (size_t i = 0; i < contacts.size(); ++i)
@@ -112,7 +112,7 @@ void CheckInline(const char* scene, b2World& world, bool containment = true)
     }
     Check(bp.GetProxyCount() == expected, "GetProxyCount counts the fixtures' children", bp.GetProxyCount());
     Check(world.GetProxyCount() == expected, "b2World::GetProxyCount counts them", world.GetProxyCount());
-    std::vector<std::pair<std::pair<const b2Fixture*, int32>, int32> > idOf; // (fixture, child) -> proxy id
+    std::vector<std::pair<std::pair<const b2Fixture*, int32>, int32>> idOf; // (fixture, child) -> proxy id
     for (int32 id = 0; int32(idOf.size()) < expected && id < 4 * expected + 16; ++id)
     {
         const b2FixtureProxy* proxy = static_cast<const b2FixtureProxy*>(bp.GetUserData(id));
@@ -138,9 +138,9 @@ void CheckInline(const char* scene, b2World& world, bool containment = true)
     {
         const std::pair<const b2Fixture*, int32> ka(c->GetFixtureA(), c->GetChildIndexA());
         const std::pair<const b2Fixture*, int32> kb(c->GetFixtureB(), c->GetChildIndexB());
-        std::vector<std::pair<std::pair<const b2Fixture*, int32>, int32> >::const_iterator a =
+        std::vector<std::pair<std::pair<const b2Fixture*, int32>, int32>>::const_iterator a =
             std::lower_bound(idOf.begin(), idOf.end(), std::make_pair(ka, int32(-1)));
-        std::vector<std::pair<std::pair<const b2Fixture*, int32>, int32> >::const_iterator b =
+        std::vector<std::pair<std::pair<const b2Fixture*, int32>, int32>>::const_iterator b =
             std::lower_bound(idOf.begin(), idOf.end(), std::make_pair(kb, int32(-1)));
         if (a == idOf.end() || b == idOf.end() || a->first != ka || b->first != kb)
         {
@@ -294,8 +294,8 @@ void PileScene()
     AddFixture(ground, edge, false, next);
     for (int i = 0; i < 400; ++i)
     {
-        b2Body* body = AddBody(world, b2_dynamicBody, -20.0f + 1.05f * float(i % 40), 0.6f + 1.05f * float(i / 40),
-                               next);
+        b2Body* body = AddBody(world, b2_dynamicBody, -20.0f + 1.05f * float(i % 40),
+                               0.6f + 1.05f * float(i / 40), next);
         b2PolygonShape box;
         box.SetAsBox(0.5f, 0.5f);
         AddFixture(body, box, false, next);

@@ -687,12 +687,13 @@ std::vector<b2AABB> MakeQueries(const Prepared& p, const std::vector<Live>& live
     const Grid& g = p.grid;
     const float leaf = g.Leaf();
     const float side = g.side;
-    auto inGrid = [&](float margin)
-    {
+    auto inGrid = [&](float margin) {
         return b2Vec2(g.x0 - margin + (side + 2.0f * margin) * rng.Uniform01(),
                       g.y0 - margin + (side + 2.0f * margin) * rng.Uniform01());
     };
-    auto randomLive = [&]() -> const Live& { return live[rng.Index(uint32_t(live.size()))]; };
+    auto randomLive = [&]() -> const Live& {
+        return live[rng.Index(uint32_t(live.size()))];
+    };
 
     std::vector<b2AABB> q;
     // Tiny.
@@ -859,21 +860,20 @@ std::vector<Ray> MakeRays(const Prepared& p, const std::vector<Live>& live, Rng&
     const Grid& g = p.grid;
     const float leaf = g.Leaf();
     const float side = g.side;
-    auto inGrid = [&](float margin)
-    {
+    auto inGrid = [&](float margin) {
         return b2Vec2(g.x0 - margin + (side + 2.0f * margin) * rng.Uniform01(),
                       g.y0 - margin + (side + 2.0f * margin) * rng.Uniform01());
     };
-    auto direction = [&]()
-    {
+    auto direction = [&]() {
         const float a = rng.Uniform(-b2_pi, b2_pi);
         return b2Vec2(std::cos(a), std::sin(a));
     };
-    auto randomLive = [&]() -> const Live& { return live[rng.Index(uint32_t(live.size()))]; };
+    auto randomLive = [&]() -> const Live& {
+        return live[rng.Index(uint32_t(live.size()))];
+    };
 
     std::vector<Ray> rays;
-    auto add = [&](const b2Vec2& a, const b2Vec2& b)
-    {
+    auto add = [&](const b2Vec2& a, const b2Vec2& b) {
         if (a.x != b.x || a.y != b.y) // Box2D requires a non-zero ray
         {
             rays.push_back({a, b});

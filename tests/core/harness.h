@@ -99,10 +99,10 @@ struct HarnessSettings
     float world = 50.0f;
     int targetProxies = 150;
     int operations = 600;
-    bool shifts = false;   // include ShiftOrigin calls
-    bool queries = true;   // include Query and RayCast checks
-    bool timing = false;   // QuadtreeBroadPhase::SetTiming
-    int validateEvery = 8; // Validate() after every n-th operation (and after every FindPairs)
+    bool shifts = false;     // include ShiftOrigin calls
+    bool queries = true;     // include Query and RayCast checks
+    bool timing = false;     // QuadtreeBroadPhase::SetTiming
+    int validateEvery = 8;   // Validate() after every n-th operation (and after every FindPairs)
     bool queueMoves = false; // move the quadtree's proxies with QueueMove (as the Box2D adapter does)
 };
 

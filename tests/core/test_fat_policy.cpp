@@ -311,12 +311,26 @@ TEST_CASE("Refatten: the documented examples", "[fat]")
     REQUIRE(SameBox(huge, stored));
 }
 
-TEST_CASE("SIMD fat-box, overlap and sanity tests equal the scalar ones bit for bit, special values included", "[fat]")
+TEST_CASE("SIMD fat-box, overlap and sanity tests equal the scalar ones bit for bit, special values included",
+          "[fat]")
 {
     // Values that probe every compare and addition: signed zeros, infinities, NaN, denormals, huge and tiny.
-    const float special[] = {0.0f, -0.0f, 1.0f, -1.0f, 0.1f, -0.1f, 1e-40f, -1e-40f, 3e38f, -3e38f,
-                             std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(),
-                             std::numeric_limits<float>::quiet_NaN(), 1e7f, -1e7f, 0.30000001f};
+    const float special[] = {0.0f,
+                             -0.0f,
+                             1.0f,
+                             -1.0f,
+                             0.1f,
+                             -0.1f,
+                             1e-40f,
+                             -1e-40f,
+                             3e38f,
+                             -3e38f,
+                             std::numeric_limits<float>::infinity(),
+                             -std::numeric_limits<float>::infinity(),
+                             std::numeric_limits<float>::quiet_NaN(),
+                             1e7f,
+                             -1e7f,
+                             0.30000001f};
     std::mt19937 rng(12345u);
     auto pick = [&](bool anything) {
         if (anything && rng() % 4 == 0)

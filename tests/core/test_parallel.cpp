@@ -91,7 +91,8 @@ TEST_CASE("Queued moves give MoveProxy's pairs, in one order at 1-4 threads", "[
         INFO("case: " << Describe(s));
 
         int64_t parallelCalls = 0;
-        const std::vector<std::vector<Pair>> immediate = PairHistory(s, 1, Schedule::Static, 0, parallelCalls);
+        const std::vector<std::vector<Pair>> immediate =
+            PairHistory(s, 1, Schedule::Static, 0, parallelCalls);
         REQUIRE(immediate.size() > 50);
         std::vector<std::vector<Pair>> reference;
         for (int threads = 1; threads <= 4; ++threads)

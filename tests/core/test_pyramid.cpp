@@ -301,18 +301,16 @@ TEST_CASE("Pyramid::Visit visits every overlapping entry exactly once, and stops
             std::vector<int> visits(size_t(n), 0);
             int total = 0;
             bool badEntry = false;
-            pyramid.Visit(query,
-                          [&](const Entry& e)
-                          {
-                              if (e.id < 0 || e.id >= n || !SameBox(e.box, boxes[size_t(e.id)]))
-                              {
-                                  badEntry = true;
-                                  return true;
-                              }
-                              visits[size_t(e.id)] += 1;
-                              ++total;
-                              return true;
-                          });
+            pyramid.Visit(query, [&](const Entry& e) {
+                if (e.id < 0 || e.id >= n || !SameBox(e.box, boxes[size_t(e.id)]))
+                {
+                    badEntry = true;
+                    return true;
+                }
+                visits[size_t(e.id)] += 1;
+                ++total;
+                return true;
+            });
             REQUIRE_FALSE(badEntry);
             for (int id = 0; id < n; ++id)
             {
@@ -325,12 +323,10 @@ TEST_CASE("Pyramid::Visit visits every overlapping entry exactly once, and stops
             if (total > 0)
             {
                 int calls = 0;
-                pyramid.Visit(query,
-                              [&](const Entry&)
-                              {
-                                  ++calls;
-                                  return false;
-                              });
+                pyramid.Visit(query, [&](const Entry&) {
+                    ++calls;
+                    return false;
+                });
                 REQUIRE(calls == 1);
             }
         }

@@ -508,17 +508,15 @@ TEST_CASE("GetStats beside concurrent const calls that apply queued moves", "[pa
         }
         const QuadtreeBroadPhase& reader = w.qt;
         std::atomic<int64_t> found{0};
-        std::thread querying(
-            [&]
+        std::thread querying([&] {
+            for (int i = 0; i < 50; ++i)
             {
-                for (int i = 0; i < 50; ++i)
-                {
-                    IdCollector c;
-                    reader.Query(Box{float(i), float(i), float(i) + 20.0f, float(i) + 20.0f},
-                                 &IdCollector::Callback, &c);
-                    found += int64_t(c.ids.size());
-                }
-            });
+                IdCollector c;
+                reader.Query(Box{float(i), float(i), float(i) + 20.0f, float(i) + 20.0f},
+                             &IdCollector::Callback, &c);
+                found += int64_t(c.ids.size());
+            }
+        });
         int64_t proxies = 0;
         for (int i = 0; i < 50; ++i)
         {

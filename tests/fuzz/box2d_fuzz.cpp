@@ -68,8 +68,7 @@ constexpr int kMaxActionsPerCall = 24; // re-entrant actions in one Query or Ray
 int g_op = 0;
 
 // QP_FUZZ_TRACE=1: print every call as it is made (to read a crashing input).
-const bool g_trace = []
-{
+const bool g_trace = [] {
     const char* v = std::getenv("QP_FUZZ_TRACE");
     return v != nullptr && std::strcmp(v, "1") == 0;
 }();
@@ -749,8 +748,9 @@ private:
     bool Bounded(const b2RayCastInput& ray) const
     {
         const float limit = quadphase::fuzz::kExactRayLimit;
-        const auto in = [limit](const b2Vec2& p)
-        { return std::fabs(p.x) <= limit && std::fabs(p.y) <= limit; };
+        const auto in = [limit](const b2Vec2& p) {
+            return std::fabs(p.x) <= limit && std::fabs(p.y) <= limit;
+        };
         if (!in(ray.p1) || !in(ray.p2) || !(ray.maxFraction <= 1.0f))
         {
             return false;

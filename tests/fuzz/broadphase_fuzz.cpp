@@ -370,10 +370,10 @@ private:
     /// Drops the pairs of proxies whose last box was bad; the order is kept.
     void DropInsane(std::vector<Pair>& pairs) const
     {
-        pairs.erase(std::remove_if(pairs.begin(), pairs.end(),
-                                   [this](const Pair& p)
-                                   { return !m_sane[size_t(p.a)] || !m_sane[size_t(p.b)]; }),
-                    pairs.end());
+        pairs.erase(
+            std::remove_if(pairs.begin(), pairs.end(),
+                           [this](const Pair& p) { return !m_sane[size_t(p.a)] || !m_sane[size_t(p.b)]; }),
+            pairs.end());
     }
 
     void SaneOnly(std::vector<ProxyId>& ids) const

@@ -61,7 +61,8 @@ RunResult Run(SceneId id, int size, int threads, Schedule schedule, int chunk)
     config.threads = threads;
     config.schedule = schedule;
     config.chunk = chunk;
-    config.parallelThreshold = 0; // every FindPairs with work takes the parallel path, even in these small scenes
+    // every FindPairs with work takes the parallel path, even in these small scenes
+    config.parallelThreshold = 0;
     quadphase::Configure(*scene.world, config);
     for (int step = 0, steps = StepCount(); step < steps; ++step)
     {
@@ -80,8 +81,8 @@ TEST_CASE("bodies are bit-identical at 1-4 threads under every schedule", "[para
         SceneId id;
         int size;
     };
-    const Case sceneCase = GENERATE(Case{SceneId::Rain, 1000}, Case{SceneId::Tumbler, 200},
-                                    Case{SceneId::Particles, 1000});
+    const Case sceneCase =
+        GENERATE(Case{SceneId::Rain, 1000}, Case{SceneId::Tumbler, 200}, Case{SceneId::Particles, 1000});
     CAPTURE(quadphase::scenes::SceneName(sceneCase.id), sceneCase.size);
 
     const RunResult serial = Run(sceneCase.id, sceneCase.size, 1, Schedule::Static, 0);

@@ -283,7 +283,8 @@ TEST_CASE("b2BroadPhase: zero-size AABBs pair exactly and inverted ones are repo
     INFO(report.firstMismatch);
     CHECK(report.mismatches == 0);
     CHECK(report.checks == 2);
-    quadphase::SetValidation(bp, false); // the shadow b2DynamicTree has no defined behaviour for inverted boxes
+    // the shadow b2DynamicTree has no defined behaviour for inverted boxes
+    quadphase::SetValidation(bp, false);
 
     // inverted: reported; it pairs with nothing, and the others keep their pairs
     errors.Clear();

@@ -28,8 +28,7 @@ namespace
 class Arena
 {
 public:
-    explicit Arena(uint32_t seed)
-        : m_rng(seed), m_world(b2Vec2(0.0f, -2.0f))
+    explicit Arena(uint32_t seed) : m_rng(seed), m_world(b2Vec2(0.0f, -2.0f))
     {
         quadphase::SetValidation(m_world, true);
         b2BodyDef groundDef;
@@ -84,7 +83,10 @@ public:
     size_t BodyCount() const { return m_bodies.size(); }
     bool IsLive(uint64_t serial) const { return m_live.count(serial) != 0; }
 
-    static uint64_t Serial(const b2Fixture* f) { return uint64_t(const_cast<b2Fixture*>(f)->GetUserData().pointer); }
+    static uint64_t Serial(const b2Fixture* f)
+    {
+        return uint64_t(const_cast<b2Fixture*>(f)->GetUserData().pointer);
+    }
 
     // Serials of the enabled fixtures whose fat AABB overlaps `box`, from the broadphase's own records.
     std::set<uint64_t> OverlappingFatAABB(const b2AABB& box)
@@ -231,7 +233,8 @@ struct Call
         {
             b2Body* body = a.AnyBody();
             Touch(body);
-            body->SetTransform(b2Vec2(a.Uniform(0.0f, 100.0f), a.Uniform(0.5f, 60.0f)), a.Uniform(0.0f, 3.0f));
+            body->SetTransform(b2Vec2(a.Uniform(0.0f, 100.0f), a.Uniform(0.5f, 60.0f)),
+                               a.Uniform(0.0f, 3.0f));
         }
         else if (roll < 80)
         {
@@ -319,8 +322,9 @@ TEST_CASE("QueryAABB and RayCast callbacks spawn, destroy, teleport, enable and 
         {
             // Long and diagonal rays among short ones.
             const b2Vec2 p1(arena.Uniform(-5.0f, 105.0f), arena.Uniform(-5.0f, 65.0f));
-            const b2Vec2 p2 = r % 2 == 0 ? b2Vec2(arena.Uniform(-5.0f, 105.0f), arena.Uniform(-5.0f, 65.0f))
-                                         : p1 + b2Vec2(arena.Uniform(-8.0f, 8.0f), arena.Uniform(-8.0f, 8.0f));
+            const b2Vec2 p2 = r % 2 == 0
+                                  ? b2Vec2(arena.Uniform(-5.0f, 105.0f), arena.Uniform(-5.0f, 65.0f))
+                                  : p1 + b2Vec2(arena.Uniform(-8.0f, 8.0f), arena.Uniform(-8.0f, 8.0f));
             if (b2DistanceSquared(p1, p2) < 1e-6f)
             {
                 continue;

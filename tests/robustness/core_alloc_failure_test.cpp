@@ -164,7 +164,8 @@ TEST_CASE("std::bad_alloc at any allocation of FindPairs on 2 threads: thrown to
             else
             {
                 const float dx = drift(rng), dy = drift(rng);
-                to = Box{old.minX + 0.1f + dx, old.minY + 0.1f + dy, old.maxX - 0.1f + dx, old.maxY - 0.1f + dy};
+                to = Box{old.minX + 0.1f + dx, old.minY + 0.1f + dy, old.maxX - 0.1f + dx,
+                         old.maxY - 0.1f + dy};
             }
             failing.QueueMove(id, to, Vec2{0.0f, 0.0f});
             twin.QueueMove(id, to, Vec2{0.0f, 0.0f});

@@ -44,7 +44,9 @@ std::vector<Pair> GridPairs(const std::vector<Box>& boxes, const std::vector<cha
             return cx < o.cx || (cx == o.cx && (cy < o.cy || (cy == o.cy && id < o.id)));
         }
     };
-    auto cellOf = [cell](float v) { return int64_t(std::floor(double(v) / double(cell))); };
+    auto cellOf = [cell](float v) {
+        return int64_t(std::floor(double(v) / double(cell)));
+    };
     std::vector<Entry> entries;
     entries.reserve(boxes.size() * 2);
     for (size_t i = 0; i < boxes.size(); ++i)

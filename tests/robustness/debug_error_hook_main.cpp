@@ -34,8 +34,8 @@ int Fail(const char* what)
 
 struct ChildResult
 {
-    bool ok = false;     // fork and pipe worked
-    int status = 0;      // waitpid status
+    bool ok = false; // fork and pipe worked
+    int status = 0;  // waitpid status
     std::string stderrText;
 };
 
@@ -150,7 +150,8 @@ int main()
     {
         return Fail("QUADPHASE_STRICT=1 did not make the default handler abort");
     }
-    std::printf("qp_debug_error_hook: a recording handler got the report; the default handler printed it and went "
-                "on (debug build); strict mode, from the API or QUADPHASE_STRICT=1, aborted\n");
+    std::printf(
+        "qp_debug_error_hook: a recording handler got the report; the default handler printed it and went "
+        "on (debug build); strict mode, from the API or QUADPHASE_STRICT=1, aborted\n");
     return 0;
 }

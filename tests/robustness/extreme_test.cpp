@@ -108,18 +108,15 @@ TEST_CASE("extreme: objects from 1e-3 m to 1e4 m in one scene", "[extreme]")
         }
     }
     float lowest = 1e9f;
-    const Observed seen =
-        StepWorld(*world, 400,
-                  [&](int)
-                  {
-                      for (const b2Body* b = world->GetBodyList(); b != nullptr; b = b->GetNext())
-                      {
-                          if (b->GetType() == b2_dynamicBody)
-                          {
-                              lowest = std::fmin(lowest, b->GetPosition().y);
-                          }
-                      }
-                  });
+    const Observed seen = StepWorld(*world, 400, [&](int) {
+        for (const b2Body* b = world->GetBodyList(); b != nullptr; b = b->GetNext())
+        {
+            if (b->GetType() == b2_dynamicBody)
+            {
+                lowest = std::fmin(lowest, b->GetPosition().y);
+            }
+        }
+    });
     char extra[160];
     std::snprintf(extra, sizeof(extra), "lowest body centre ever %.5f, touching contacts %d", double(lowest),
                   TouchingContacts(*world));
@@ -202,8 +199,7 @@ TEST_CASE("extreme: proxies leave the bounds at high speed and come back", "[ext
         start.push_back(def.position);
     }
     float farthest = 0.0f;
-    auto track = [&](int)
-    {
+    auto track = [&](int) {
         for (b2Body* b : flyers)
         {
             farthest = std::fmax(farthest, b->GetPosition().Length());
@@ -246,8 +242,7 @@ TEST_CASE("extreme: bodies created and destroyed every step", "[extreme]")
     AddBox(*world, b2_staticBody, b2Vec2(20.5f, 15.0f), 0.5f, 15.0f, 0.0f);
     quadphase::scenes::Rng rng(6006u);
     std::vector<b2Body*> bodies;
-    auto spawn = [&]()
-    {
+    auto spawn = [&]() {
         const b2Vec2 p(rng.Uniform(-19.0f, 19.0f), rng.Uniform(1.0f, 25.0f));
         const float size = rng.Uniform(0.1f, 0.6f);
         bodies.push_back(rng.Index(2) == 0 ? AddCircle(*world, b2_dynamicBody, p, size, 1.0f)
@@ -258,22 +253,20 @@ TEST_CASE("extreme: bodies created and destroyed every step", "[extreme]")
         spawn();
     }
     long long created = 0;
-    const Observed seen = StepWorld(*world, 400,
-                                    [&](int)
-                                    {
-                                        for (int k = 0; k < 25; ++k)
-                                        {
-                                            const uint32_t victim = rng.Index(uint32_t(bodies.size()));
-                                            world->DestroyBody(bodies[victim]);
-                                            bodies[victim] = bodies.back();
-                                            bodies.pop_back();
-                                        }
-                                        for (int k = 0; k < 25; ++k)
-                                        {
-                                            spawn();
-                                            ++created;
-                                        }
-                                    });
+    const Observed seen = StepWorld(*world, 400, [&](int) {
+        for (int k = 0; k < 25; ++k)
+        {
+            const uint32_t victim = rng.Index(uint32_t(bodies.size()));
+            world->DestroyBody(bodies[victim]);
+            bodies[victim] = bodies.back();
+            bodies.pop_back();
+        }
+        for (int k = 0; k < 25; ++k)
+        {
+            spawn();
+            ++created;
+        }
+    });
     char extra[160];
     std::snprintf(extra, sizeof(extra), "bodies %d, created %lld, proxies %d", DynamicBodies(*world), created,
                   world->GetProxyCount());

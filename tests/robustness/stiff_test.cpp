@@ -47,14 +47,12 @@ TEST_CASE("stiff: a stack with 1:1000 mass ratios does not explode", "[stiff]")
             AddBox(*world, b2_dynamicBody, b2Vec2(0.0f, 0.5f + 1.0f * float(i)), 0.5f, 0.5f, density));
     }
     float lowest = 1e9f;
-    const Observed seen = StepWorld(*world, 600,
-                                    [&](int)
-                                    {
-                                        for (b2Body* b : stack)
-                                        {
-                                            lowest = std::fmin(lowest, b->GetPosition().y);
-                                        }
-                                    });
+    const Observed seen = StepWorld(*world, 600, [&](int) {
+        for (b2Body* b : stack)
+        {
+            lowest = std::fmin(lowest, b->GetPosition().y);
+        }
+    });
 
     float spread = 0.0f;
     for (b2Body* b : stack)
@@ -145,18 +143,15 @@ TEST_CASE("stiff: a pyramid under 10x gravity", "[stiff]")
         }
     }
     float lowest = 1e9f;
-    const Observed seen =
-        StepWorld(*world, 600,
-                  [&](int)
-                  {
-                      for (const b2Body* b = world->GetBodyList(); b != nullptr; b = b->GetNext())
-                      {
-                          if (b->GetType() == b2_dynamicBody)
-                          {
-                              lowest = std::fmin(lowest, b->GetPosition().y);
-                          }
-                      }
-                  });
+    const Observed seen = StepWorld(*world, 600, [&](int) {
+        for (const b2Body* b = world->GetBodyList(); b != nullptr; b = b->GetNext())
+        {
+            if (b->GetType() == b2_dynamicBody)
+            {
+                lowest = std::fmin(lowest, b->GetPosition().y);
+            }
+        }
+    });
 
     char extra[160];
     std::snprintf(extra, sizeof(extra), "lowest box centre ever %.3f, touching contacts %d", double(lowest),
@@ -210,19 +205,15 @@ TEST_CASE("stiff: bullets at 300 m/s do not pass thin walls (continuous collisio
     // A bullet tunnelled when it is beyond its wall while level with the wall's face (a bullet deflected
     // around the end of a pushed wall is not a tunnel).
     int passed = 0;
-    const Observed seen =
-        StepWorld(*world, 120,
-                  [&](int)
-                  {
-                      for (size_t i = 0; i < bullets.size(); ++i)
-                      {
-                          const b2Vec2 p = bullets[i]->GetPosition();
-                          const b2Vec2 wall =
-                              lanes[i] != nullptr ? lanes[i]->GetPosition() : b2Vec2(wallX, 0.0f);
-                          const float halfHeight = lanes[i] != nullptr ? 1.2f : 6.0f;
-                          passed += (p.x > wall.x && std::fabs(p.y - wall.y) < halfHeight) ? 1 : 0;
-                      }
-                  });
+    const Observed seen = StepWorld(*world, 120, [&](int) {
+        for (size_t i = 0; i < bullets.size(); ++i)
+        {
+            const b2Vec2 p = bullets[i]->GetPosition();
+            const b2Vec2 wall = lanes[i] != nullptr ? lanes[i]->GetPosition() : b2Vec2(wallX, 0.0f);
+            const float halfHeight = lanes[i] != nullptr ? 1.2f : 6.0f;
+            passed += (p.x > wall.x && std::fabs(p.y - wall.y) < halfHeight) ? 1 : 0;
+        }
+    });
 
     char extra[160];
     std::snprintf(extra, sizeof(extra), "bullet-steps beyond their wall %d", passed);

@@ -52,8 +52,7 @@ int SmallSize(const SceneInfo& info)
 std::vector<uint32_t> BodyBits(const b2World& world)
 {
     std::vector<uint32_t> bits;
-    auto push = [&bits](float value)
-    {
+    auto push = [&bits](float value) {
         uint32_t word;
         std::memcpy(&word, &value, sizeof word);
         bits.push_back(word);

@@ -124,7 +124,9 @@ Scene BuildBullets(int size, uint32_t seed)
     gun.size = size;
     gun.rng = Rng(seed);
     gun.bullets.assign(static_cast<size_t>(size), nullptr);
-    scene.perStep = [gun](b2World& w, int step) mutable { gun.Step(w, step); };
+    scene.perStep = [gun](b2World& w, int step) mutable {
+        gun.Step(w, step);
+    };
     return scene;
 }
 

@@ -97,7 +97,9 @@ Scene BuildChurn(int size, uint32_t seed)
                     b2Vec2(x0 + pitch * static_cast<float>(column), 1.0f + pitch * static_cast<float>(row)),
                     b2Vec2(0.0f, 0.0f));
     }
-    scene.perStep = [churn](b2World& w, int) mutable { churn.Step(w); };
+    scene.perStep = [churn](b2World& w, int) mutable {
+        churn.Step(w);
+    };
     return scene;
 }
 

@@ -33,8 +33,7 @@ Scene BuildOpenWorld(int size, uint32_t seed)
     const float buildingHalf = 5.0f;
     const float townHalf = 0.5f * blockPitch * static_cast<float>(blocks); // streets included
 
-    auto townCenter = [&](int town)
-    {
+    auto townCenter = [&](int town) {
         const int row = town / townColumns;
         const int column = town % townColumns;
         return center + b2Vec2(-mapHalf + townPitch * (static_cast<float>(column) + 0.5f),

@@ -121,8 +121,7 @@ Scene BuildShooter(int size, uint32_t seed)
     }
     rng.Shuffle(cells);
     size_t nextCell = 0;
-    auto cellCenter = [&](int32_t cell)
-    {
+    auto cellCenter = [&](int32_t cell) {
         const int row = cell / columns;
         const int column = cell % columns;
         return b2Vec2(-half + 1.0f + pitch * (static_cast<float>(column) + 0.5f),
@@ -188,7 +187,9 @@ Scene BuildShooter(int size, uint32_t seed)
 
     shooter.rng = Rng(seed ^ 0x9e3779b9u);
     shooter.perStep = std::max(2, size / 80);
-    scene.perStep = [shooter](b2World& w, int step) mutable { shooter.Step(w, step); };
+    scene.perStep = [shooter](b2World& w, int step) mutable {
+        shooter.Step(w, step);
+    };
     return scene;
 }
 

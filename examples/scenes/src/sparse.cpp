@@ -43,8 +43,7 @@ Scene BuildSparse(int size, uint32_t seed)
     rng.Shuffle(cells);
 
     const float jitter = 0.5f * pitch - 3.5f;
-    auto cellCenter = [&](int32_t cell)
-    {
+    auto cellCenter = [&](int32_t cell) {
         const int row = cell / columns;
         const int column = cell % columns;
         // One draw per statement: the evaluation order of function arguments is unspecified.

@@ -48,8 +48,7 @@ Scene BuildTumbler(int size, uint32_t seed)
     constexpr float kPitch = 0.4f;
     int spawned = 0;
     int next = static_cast<int>(seed % (kLattice * kLattice));
-    scene.perStep = [size, perStepCount, spawned, next](b2World& w, int /*step*/) mutable
-    {
+    scene.perStep = [size, perStepCount, spawned, next](b2World& w, int /*step*/) mutable {
         b2PolygonShape shape;
         shape.SetAsBox(0.125f, 0.125f);
         const int count = std::min(perStepCount, size - spawned);

@@ -101,13 +101,16 @@ void AddValidationTotals(const ValidationReport& report)
 b2BroadPhase::b2BroadPhase()
 {
     // The layout promises of b2_broad_phase.h, checked where the private members can be named.
-    static_assert(sizeof(b2BroadPhase) == 80 && alignof(b2BroadPhase) == 8, "b2BroadPhase must keep stock's size");
+    static_assert(sizeof(b2BroadPhase) == 80 && alignof(b2BroadPhase) == 8,
+                  "b2BroadPhase must keep stock's size");
     static_assert(offsetof(b2BroadPhase, m_tree) == 0 && offsetof(b2BroadPhase, m_proxyCount) == 32 &&
                       offsetof(b2BroadPhase, m_state) == quadphase::detail::kStateOffset &&
-                      offsetof(b2BroadPhase, m_moveCount) == 52 && offsetof(b2BroadPhase, m_pairBuffer) == 56 &&
+                      offsetof(b2BroadPhase, m_moveCount) == 52 &&
+                      offsetof(b2BroadPhase, m_pairBuffer) == 56 &&
                       offsetof(b2BroadPhase, m_queryProxyId) == 72,
                   "b2BroadPhase must keep stock's member offsets");
-    static_assert(sizeof(b2TreeView) == sizeof(b2DynamicTree) && alignof(b2TreeView) == alignof(b2DynamicTree),
+    static_assert(sizeof(b2TreeView) == sizeof(b2DynamicTree) &&
+                      alignof(b2TreeView) == alignof(b2DynamicTree),
                   "b2BroadPhase::m_tree must have b2DynamicTree's layout");
     m_tree.root = b2_nullNode;
     m_tree.nodes = nullptr;

@@ -17,10 +17,7 @@ namespace detail
 
 struct BroadPhaseState
 {
-    explicit BroadPhaseState(const FatPolicy& policy)
-        : core(policy)
-    {
-    }
+    explicit BroadPhaseState(const FatPolicy& policy) : core(policy) {}
 
     QuadtreeBroadPhase core;
     std::vector<Pair> pairs;                 // UpdatePairs' buffer, kept between calls

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cinttypes>
 #include <cmath>
-#include <cstdio>
 #include <cstdint>
+#include <cstdio>
 
 #include "quadphase/error.h"
 
@@ -34,8 +34,8 @@ bool Preimage(float target, float r, float sign, float& t)
 std::string BoxText(const b2AABB& b)
 {
     char text[160];
-    std::snprintf(text, sizeof(text), "(%.9g, %.9g)-(%.9g, %.9g)", double(b.lowerBound.x), double(b.lowerBound.y),
-                  double(b.upperBound.x), double(b.upperBound.y));
+    std::snprintf(text, sizeof(text), "(%.9g, %.9g)-(%.9g, %.9g)", double(b.lowerBound.x),
+                  double(b.lowerBound.y), double(b.upperBound.x), double(b.upperBound.y));
     return text;
 }
 
@@ -49,8 +49,7 @@ b2AABB ToAABB(const Box& b)
 
 } // namespace
 
-ShadowValidator::ShadowValidator(const QuadtreeBroadPhase& core)
-    : m_core(core)
+ShadowValidator::ShadowValidator(const QuadtreeBroadPhase& core) : m_core(core)
 {
     // Moves queued before validation starts must be in the fat boxes the shadow tree is seeded with: the shadow
     // never sees those MoveProxy calls, and the quadtree would apply them only at the next UpdatePairs (a false
@@ -128,8 +127,8 @@ void ShadowValidator::CompareFat(ProxyId id, const char* call)
 {
     const b2AABB& shadow = m_tree.GetFatAABB(m_shadowOf[size_t(id)]);
     const Box& ours = m_core.GetPool().Fat(id);
-    const bool same =
-        SameBits(ours, Box{shadow.lowerBound.x, shadow.lowerBound.y, shadow.upperBound.x, shadow.upperBound.y});
+    const bool same = SameBits(
+        ours, Box{shadow.lowerBound.x, shadow.lowerBound.y, shadow.upperBound.x, shadow.upperBound.y});
     if (IsInexact(id))
     {
         if (same)
@@ -138,10 +137,12 @@ void ShadowValidator::CompareFat(ProxyId id, const char* call)
         }
         return;
     }
-    if (!SameBits(ours, Box{shadow.lowerBound.x, shadow.lowerBound.y, shadow.upperBound.x, shadow.upperBound.y}) &&
+    if (!SameBits(ours,
+                  Box{shadow.lowerBound.x, shadow.lowerBound.y, shadow.upperBound.x, shadow.upperBound.y}) &&
         IsFinite(ours))
     {
-        Mismatch(std::string(call) + ": proxy " + Describe(id) + " but b2DynamicTree stores " + BoxText(shadow));
+        Mismatch(std::string(call) + ": proxy " + Describe(id) + " but b2DynamicTree stores " +
+                 BoxText(shadow));
     }
 }
 
@@ -234,7 +235,9 @@ void ShadowValidator::OnUpdatePairs(const std::vector<Pair>& reported)
     // agree again are cleared only now, since this call's move buffers were decided with the old bits.
     if (!m_inexact.empty())
     {
-        const auto inexact = [this](const Pair& p) { return IsInexact(p.a) || IsInexact(p.b); };
+        const auto inexact = [this](const Pair& p) {
+            return IsInexact(p.a) || IsInexact(p.b);
+        };
         m_expected.erase(std::remove_if(m_expected.begin(), m_expected.end(), inexact), m_expected.end());
         m_actual.erase(std::remove_if(m_actual.begin(), m_actual.end(), inexact), m_actual.end());
     }
@@ -265,8 +268,8 @@ void ShadowValidator::OnUpdatePairs(const std::vector<Pair>& reported)
         const Pair p = isMissing ? missing.front() : extra.front();
         char head[200];
         std::snprintf(head, sizeof(head),
-                      "UpdatePairs #%" PRId64 ": %zu pairs missing, %zu extra; first %s pair: ", m_report.checks,
-                      missing.size(), extra.size(), isMissing ? "missing" : "extra");
+                      "UpdatePairs #%" PRId64 ": %zu pairs missing, %zu extra; first %s pair: ",
+                      m_report.checks, missing.size(), extra.size(), isMissing ? "missing" : "extra");
         Mismatch(std::string(head) + "proxy " + Describe(p.a) + " and proxy " + Describe(p.b));
     }
     if (m_report.checks % 64 == 0)

@@ -9,10 +9,7 @@ namespace
 const Box kEmptyBox{0.0f, 0.0f, 0.0f, 0.0f};
 }
 
-BruteForceBroadPhase::BruteForceBroadPhase(const FatPolicy& policy)
-    : m_policy(policy)
-{
-}
+BruteForceBroadPhase::BruteForceBroadPhase(const FatPolicy& policy) : m_policy(policy) {}
 
 ProxyId BruteForceBroadPhase::CreateProxy(const Box& tight, void* userData)
 {

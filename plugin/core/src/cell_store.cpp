@@ -127,8 +127,7 @@ std::string CellStore::Validate() const
     // The owner's name is built only for a message: Validate() runs after every check of the fuzz targets,
     // and a string per occupied cell was a tenth of their time.
     std::vector<uint8_t> owned(m_entries.size(), 0);
-    auto claim = [&](uint32_t begin, uint32_t sizeClass, const char* kind, size_t which) -> std::string
-    {
+    auto claim = [&](uint32_t begin, uint32_t sizeClass, const char* kind, size_t which) -> std::string {
         const size_t end = size_t(begin) + (size_t(1) << sizeClass);
         if (end > m_entries.size())
         {

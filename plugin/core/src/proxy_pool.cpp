@@ -133,8 +133,9 @@ void ProxyPool::ShiftOrigin(Vec2 newOrigin)
 
 int64_t ProxyPool::MemoryBytes() const
 {
-    return int64_t(m_fat.capacity() * sizeof(Box) + m_userData.capacity() * sizeof(void*) + m_state.capacity() +
-                   m_freeList.capacity() * sizeof(ProxyId) + m_moveBuffer.capacity() * sizeof(ProxyId));
+    return int64_t(m_fat.capacity() * sizeof(Box) + m_userData.capacity() * sizeof(void*) +
+                   m_state.capacity() + m_freeList.capacity() * sizeof(ProxyId) +
+                   m_moveBuffer.capacity() * sizeof(ProxyId));
 }
 
 std::string ProxyPool::Validate() const
@@ -157,7 +158,8 @@ std::string ProxyPool::Validate() const
         const bool isLive = (m_state[size_t(id)] & kLive) != 0;
         if (isLive == (onFreeList[size_t(id)] != 0))
         {
-            return "id " + std::to_string(id) + (isLive ? " is live and on the free list" : " is neither live nor free");
+            return "id " + std::to_string(id) +
+                   (isLive ? " is live and on the free list" : " is neither live nor free");
         }
         if ((m_state[size_t(id)] & kInWork) != 0)
         {

@@ -223,7 +223,8 @@ int64_t Pyramid::UpdateBatch(const std::vector<ProxyId>& ids, const Box* boxes)
         {
             const Location& loc = m_location[size_t(ids[size_t(i + kEntries)])];
             m_store.PrefetchSlot(loc.cell, uint32_t(loc.slot));
-            m_store.PrefetchSlot(loc.cell, uint32_t(m_store.Size(loc.cell) - 1)); // the entry that fills the hole
+            // the entry that fills the hole
+            m_store.PrefetchSlot(loc.cell, uint32_t(m_store.Size(loc.cell) - 1));
             const int32_t cell = newCell[(i + kEntries) % kRing];
             if (m_store.HasRoom(cell))
             {
@@ -320,8 +321,8 @@ std::string Pyramid::Validate() const
             if (loc.cell != cell || loc.slot != slot)
             {
                 return "id " + std::to_string(e.id) + " is in cell " + std::to_string(cell) + " slot " +
-                       std::to_string(slot) + " but its location says cell " + std::to_string(loc.cell) + " slot " +
-                       std::to_string(loc.slot);
+                       std::to_string(slot) + " but its location says cell " + std::to_string(loc.cell) +
+                       " slot " + std::to_string(loc.slot);
             }
             int level;
             int32_t expected;
@@ -373,7 +374,8 @@ std::string Pyramid::Validate() const
     }
     if (outside != m_outsideCount)
     {
-        return "outside count " + std::to_string(m_outsideCount) + " but " + std::to_string(outside) + " outside";
+        return "outside count " + std::to_string(m_outsideCount) + " but " + std::to_string(outside) +
+               " outside";
     }
     return {};
 }

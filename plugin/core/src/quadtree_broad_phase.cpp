@@ -32,13 +32,13 @@ __attribute__((noinline)) void ReportBadBox(const Box& b, const char* call, Prox
 {
     if (!IsFinite(b))
     {
-        ReportError(ErrorCode::NonFiniteBox, "%s: proxy %d got box (%g, %g)-(%g, %g)", call, int(id), double(b.minX),
-                    double(b.minY), double(b.maxX), double(b.maxY));
+        ReportError(ErrorCode::NonFiniteBox, "%s: proxy %d got box (%g, %g)-(%g, %g)", call, int(id),
+                    double(b.minX), double(b.minY), double(b.maxX), double(b.maxY));
     }
     else if (!IsOrdered(b))
     {
-        ReportError(ErrorCode::InvertedBox, "%s: proxy %d got box (%g, %g)-(%g, %g) with min > max", call, int(id),
-                    double(b.minX), double(b.minY), double(b.maxX), double(b.maxY));
+        ReportError(ErrorCode::InvertedBox, "%s: proxy %d got box (%g, %g)-(%g, %g) with min > max", call,
+                    int(id), double(b.minX), double(b.minY), double(b.maxX), double(b.maxY));
     }
 }
 
@@ -141,8 +141,7 @@ void QuadtreeBroadPhase::CheckBox(const Box& b, const char* call, ProxyId id)
 }
 
 QuadtreeBroadPhase::QuadtreeBroadPhase(const FatPolicy& policy, const Config& config)
-    : m_policy(policy)
-    , m_config(config)
+    : m_policy(policy), m_config(config)
 {
     Retune();
 }
@@ -591,7 +590,8 @@ void QuadtreeBroadPhase::FindPairsParallel(std::vector<Pair>& out, int threads)
     omp_sched_t previousKind;
     int previousChunk;
     omp_get_schedule(&previousKind, &previousChunk);
-    static constexpr omp_sched_t kKinds[] = {omp_sched_static, omp_sched_dynamic, omp_sched_guided, omp_sched_auto};
+    static constexpr omp_sched_t kKinds[] = {omp_sched_static, omp_sched_dynamic, omp_sched_guided,
+                                             omp_sched_auto};
     omp_set_schedule(kKinds[int(m_config.schedule)], m_config.chunk);
 
     // A block's pair list may grow, and an exception must not leave the region (that ends the program): the first
@@ -705,7 +705,8 @@ public:
         // test (SegmentTest::MayCross) runs in float, so a box the exact segment misses by a few ulps may still
         // pass it; such a box must lie in a walked cell. Errors there are a few ulps (2^-23 relative) of the
         // magnitudes involved; 2^-19 of their sum, plus a thousandth of a cell, is a wide margin.
-        const double magnitude = std::fabs(ox) + std::fabs(oy) + 2.0 * double(pyramid.Bounds().maxX - pyramid.Bounds().minX) +
+        const double magnitude = std::fabs(ox) + std::fabs(oy) +
+                                 2.0 * double(pyramid.Bounds().maxX - pyramid.Bounds().minX) +
                                  std::fabs(double(input.p1.x)) + std::fabs(double(input.p1.y)) +
                                  std::fabs(double(input.p2.x)) + std::fabs(double(input.p2.y));
         m_eps = 1e-3 + magnitude * invLeaf * (1.0 / 524288.0);
@@ -844,7 +845,8 @@ void QuadtreeBroadPhase::RayCast(const RayInput& input, RayCastFn fn, void* cont
             // batch collected after that callback holds the stale box: test the pool's box then.
             if (m_mutations == collected && !m_pool.IsStale(e.id))
             {
-                if (!segment.MayCross(e.box)) // the segment may have been clipped since the entry was collected
+                // the segment may have been clipped since the entry was collected
+                if (!segment.MayCross(e.box))
                 {
                     continue;
                 }
@@ -986,9 +988,10 @@ void QuadtreeBroadPhase::ShiftOrigin(Vec2 newOrigin)
     // The world moved, so the region it lives in moves with it. The shifted pyramid is built first (the only
     // step that allocates), then everything is shifted: std::bad_alloc leaves the old frame intact.
     const Box bounds = m_pyramid.Bounds();
-    Pyramid built = BuildPyramid(bounds.minX - newOrigin.x, bounds.minY - newOrigin.y, bounds.maxX - bounds.minX,
-                                 m_pyramid.Depth(), newOrigin);
-    m_pool.ShiftOrigin(newOrigin); // the same subtraction as BuildPyramid's, so entries and pool agree bit for bit
+    Pyramid built = BuildPyramid(bounds.minX - newOrigin.x, bounds.minY - newOrigin.y,
+                                 bounds.maxX - bounds.minX, m_pyramid.Depth(), newOrigin);
+    // the same subtraction as BuildPyramid's, so entries and pool agree bit for bit
+    m_pool.ShiftOrigin(newOrigin);
     WriteMirrorOfAll();
     m_config.bounds.minX -= newOrigin.x;
     m_config.bounds.minY -= newOrigin.y;
@@ -1093,7 +1096,8 @@ void QuadtreeBroadPhase::Retune()
         {
             originX = m_config.bounds.minX;
             originY = m_config.bounds.minY;
-            side = std::max(m_config.bounds.maxX - m_config.bounds.minX, m_config.bounds.maxY - m_config.bounds.minY);
+            side = std::max(m_config.bounds.maxX - m_config.bounds.minX,
+                            m_config.bounds.maxY - m_config.bounds.minY);
         }
         else
         {
@@ -1114,7 +1118,8 @@ void QuadtreeBroadPhase::Retune()
     {
         originX = m_config.bounds.minX;
         originY = m_config.bounds.minY;
-        side = std::max(m_config.bounds.maxX - m_config.bounds.minX, m_config.bounds.maxY - m_config.bounds.minY);
+        side = std::max(m_config.bounds.maxX - m_config.bounds.minX,
+                        m_config.bounds.maxY - m_config.bounds.minY);
     }
     if (!(side > 0.0f) || !std::isfinite(side))
     {
@@ -1142,7 +1147,8 @@ void QuadtreeBroadPhase::Retune()
     m_tunedOutside = m_pyramid.OutsideCount();
 }
 
-Pyramid QuadtreeBroadPhase::BuildPyramid(float originX, float originY, float side, int depth, Vec2 shift) const
+Pyramid QuadtreeBroadPhase::BuildPyramid(float originX, float originY, float side, int depth,
+                                         Vec2 shift) const
 {
     // Built beside the current pyramid and swapped in by CommitRebuild: std::bad_alloc half way leaves the current
     // one intact (the price is both in memory at once, for the length of a rebuild).
@@ -1197,11 +1203,12 @@ Stats QuadtreeBroadPhase::GetStats() const
         s.proxiesPerLevel[size_t(level)] = m_pyramid.LevelCount(level);
     }
     // Every heap byte held, working buffers included (their capacity, not their size).
-    s.memoryBytes = m_pool.MemoryBytes() + m_pyramid.MemoryBytes() +
-                    int64_t((m_work.capacity() + m_stale.capacity()) * sizeof(ProxyId)) +
-                    int64_t(m_queued.capacity() * sizeof(QueuedMove)) +
-                    int64_t(m_blockPairs.capacity() * sizeof(std::vector<Pair>)) +
-                    int64_t((m_applyLists.stale.capacity() + m_applyLists.buffered.capacity()) * sizeof(ProxyId));
+    s.memoryBytes =
+        m_pool.MemoryBytes() + m_pyramid.MemoryBytes() +
+        int64_t((m_work.capacity() + m_stale.capacity()) * sizeof(ProxyId)) +
+        int64_t(m_queued.capacity() * sizeof(QueuedMove)) +
+        int64_t(m_blockPairs.capacity() * sizeof(std::vector<Pair>)) +
+        int64_t((m_applyLists.stale.capacity() + m_applyLists.buffered.capacity()) * sizeof(ProxyId));
     for (const std::vector<Pair>& pairs : m_blockPairs)
     {
         s.memoryBytes += int64_t(pairs.capacity() * sizeof(Pair));
@@ -1229,7 +1236,8 @@ std::string QuadtreeBroadPhase::Validate() const
     {
         if (m_pool.IsPending(id))
         {
-            return "proxy " + std::to_string(id) + " is flagged with a queued move after the queue was applied";
+            return "proxy " + std::to_string(id) +
+                   " is flagged with a queued move after the queue was applied";
         }
     }
     problem = m_pyramid.Validate();
@@ -1244,8 +1252,8 @@ std::string QuadtreeBroadPhase::Validate() const
     }
     if (stored != m_pool.LiveCount())
     {
-        return "pyramid stores " + std::to_string(stored) + " proxies but " + std::to_string(m_pool.LiveCount()) +
-               " are live";
+        return "pyramid stores " + std::to_string(stored) + " proxies but " +
+               std::to_string(m_pool.LiveCount()) + " are live";
     }
     // A proxy is flagged stale exactly when it is in the stale list, once.
     std::vector<uint8_t> listed(size_t(m_pool.IdBound()), 0);
@@ -1253,7 +1261,8 @@ std::string QuadtreeBroadPhase::Validate() const
     {
         if (id < 0 || id >= m_pool.IdBound() || listed[size_t(id)]++ != 0 || !m_pool.IsStale(id))
         {
-            return "stale list entry " + std::to_string(id) + " is out of range, repeated or not flagged stale";
+            return "stale list entry " + std::to_string(id) +
+                   " is out of range, repeated or not flagged stale";
         }
     }
     for (ProxyId id = 0; id < m_pool.IdBound(); ++id)

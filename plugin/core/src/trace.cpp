@@ -57,7 +57,8 @@ bool Trace::Load(const std::string& path, std::string& error)
     }
     char magic[sizeof(kMagic)];
     uint64_t count = 0;
-    if (std::fread(magic, sizeof(magic), 1, file.get()) != 1 || std::memcmp(magic, kMagic, sizeof(kMagic)) != 0 ||
+    if (std::fread(magic, sizeof(magic), 1, file.get()) != 1 ||
+        std::memcmp(magic, kMagic, sizeof(kMagic)) != 0 ||
         std::fread(&count, sizeof(count), 1, file.get()) != 1)
     {
         error = path + " is not a quadphase trace";

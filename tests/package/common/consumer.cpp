@@ -62,15 +62,15 @@ int main()
         }
     }
 
-    std::printf("consumer (%s): %d contact(s), %d touching, GetContactCount()=%d, pair %s\n", CONSUMER_VARIANT,
-                contacts, touching, world.GetContactCount(), pairOk ? "found" : "MISSING");
+    std::printf("consumer (%s): %d contact(s), %d touching, GetContactCount()=%d, pair %s\n",
+                CONSUMER_VARIANT, contacts, touching, world.GetContactCount(), pairOk ? "found" : "MISSING");
     bool ok = contacts == 1 && touching == 1 && pairOk && world.GetContactCount() == 1;
 #if defined(QUADPHASE_VARIANT_BOX2D_PACKAGE)
     // quadphase::SetValidation(b2BroadPhase&, bool): defined beside quadphase's b2BroadPhase, so a static link
     // (with -rdynamic) has it too.
     const bool quadphase = dlsym(RTLD_DEFAULT, "_ZN9quadphase13SetValidationER12b2BroadPhaseb") != nullptr;
-    std::printf("consumer (%s): library %s, expected %s\n", CONSUMER_VARIANT, quadphase ? "quadphase" : "stock",
-                EXPECT_LIBRARY);
+    std::printf("consumer (%s): library %s, expected %s\n", CONSUMER_VARIANT,
+                quadphase ? "quadphase" : "stock", EXPECT_LIBRARY);
     ok = ok && std::strcmp(quadphase ? "quadphase" : "stock", EXPECT_LIBRARY) == 0;
 #endif
     std::printf("consumer (%s): %s\n", CONSUMER_VARIANT, ok ? "OK" : "FAILED");

@@ -19,9 +19,9 @@
 #define B2_BROAD_PHASE_H
 
 #include "b2_api.h"
-#include "b2_settings.h"
 #include "b2_collision.h"
 #include "b2_dynamic_tree.h"
+#include "b2_settings.h"
 
 struct B2_API b2Pair
 {

@@ -63,7 +63,8 @@ private:
     b2DynamicTree m_tree;
     std::vector<int32> m_shadowOf; // quadtree id -> shadow id, -1 when none
     std::vector<ProxyId> m_buffer; // quadtree ids, stock b2BroadPhase move-buffer semantics
-    std::vector<ProxyId> m_moved;  // quadtree ids moved since the last check: their fat AABBs are compared then
+    // quadtree ids moved since the last check: their fat AABBs are compared then
+    std::vector<ProxyId> m_moved;
     // By quadtree id: seeded (validation switched on mid-run) with a fat AABB b2DynamicTree cannot reproduce bit
     // for bit; left out of the comparisons until a move gives both trees the same bits (m_exactAgain).
     std::vector<uint8_t> m_inexact;

@@ -7,9 +7,9 @@ namespace quadphase
 /// What went wrong.
 enum class ErrorCode
 {
-    NonFiniteBox, ///< a box with NaN or infinite coordinates was given to CreateProxy or MoveProxy
-    InvertedBox,  ///< a box with min > max on an axis was given to CreateProxy or MoveProxy
-    UnknownProxy, ///< an id that is out of range or already destroyed was given
+    NonFiniteBox,       ///< a box with NaN or infinite coordinates was given to CreateProxy or MoveProxy
+    InvertedBox,        ///< a box with min > max on an axis was given to CreateProxy or MoveProxy
+    UnknownProxy,       ///< an id that is out of range or already destroyed was given
     ValidationMismatch, ///< validation mode found the quadtree and the shadow tree disagree
 };
 

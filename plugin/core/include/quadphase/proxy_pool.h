@@ -64,7 +64,8 @@ public:
     {
         if (m_moveBuffer.size() == m_moveBuffer.capacity())
         {
-            m_moveBuffer.reserve(std::max<size_t>(16, 2 * m_moveBuffer.capacity())); // may throw: nothing changed yet
+            // may throw: nothing changed yet
+            m_moveBuffer.reserve(std::max<size_t>(16, 2 * m_moveBuffer.capacity()));
         }
         if (MarkBuffered(id))
         {
@@ -76,10 +77,7 @@ public:
     /// proxy and returns true when it was not flagged yet; the caller must then append exactly those ids, in the
     /// order it wants them, with AppendBuffered (on one thread) before anything else reads the pool. Between the
     /// two the invariant "flagged exactly when in the buffer" does not hold.
-    bool MarkBuffered(ProxyId id)
-    {
-        return TestAndSet(id, kBuffered);
-    }
+    bool MarkBuffered(ProxyId id) { return TestAndSet(id, kBuffered); }
     void AppendBuffered(const std::vector<ProxyId>& ids)
     {
         m_moveBuffer.insert(m_moveBuffer.end(), ids.begin(), ids.end());
@@ -114,28 +112,19 @@ public:
     /// Flags a proxy whose fat box changed since its cell entry was written ("stale"). Returns true when it was not
     /// flagged yet, i.e. when the caller should add it to its list of stale proxies. Like the buffered flag, the
     /// stale flag survives Free, so an id is never listed twice; ClearStale ends it.
-    bool MarkStale(ProxyId id)
-    {
-        return TestAndSet(id, kStale);
-    }
+    bool MarkStale(ProxyId id) { return TestAndSet(id, kStale); }
     void ClearStale(ProxyId id) { m_state[size_t(id)] &= uint8_t(~kStale); }
     bool IsStale(ProxyId id) const { return (m_state[size_t(id)] & kStale) != 0; }
 
     /// Flags a live proxy with a queued, not yet applied move (QuadtreeBroadPhase::QueueMove). Returns false when
     /// it already had one: the caller must apply the queue first, so that a proxy is queued at most once.
-    bool MarkPending(ProxyId id)
-    {
-        return TestAndSet(id, kPending);
-    }
+    bool MarkPending(ProxyId id) { return TestAndSet(id, kPending); }
     void ClearPending(ProxyId id) { m_state[size_t(id)] &= uint8_t(~kPending); }
     bool IsPending(ProxyId id) const { return (m_state[size_t(id)] & kPending) != 0; }
 
     /// Flags a live proxy whose bad box (non-finite or inverted) has been reported. Returns true the first time in
     /// the proxy's life (Allocate clears the flag), so that a runaway body is reported once, not once per step.
-    bool MarkBadReported(ProxyId id)
-    {
-        return TestAndSet(id, kBadReported);
-    }
+    bool MarkBadReported(ProxyId id) { return TestAndSet(id, kBadReported); }
 
     /// True when `id` is live and has no queued move: QuadtreeBroadPhase::QueueMove's common case, one load.
     bool IsLiveAndNotPending(ProxyId id) const

@@ -164,12 +164,9 @@ private:
     // kMaxDepth has 22.4 million cells, under the 2^25 that 26 signed bits hold).
     struct Location
     {
-        Location()
-            : cell(-1), level(-1), outside(0)
-        {
-        }
-        int32_t cell : 26;      // index into m_store (all levels), -1 when not stored
-        int32_t level : 5;      // -1 when not stored
+        Location() : cell(-1), level(-1), outside(0) {}
+        int32_t cell : 26; // index into m_store (all levels), -1 when not stored
+        int32_t level : 5; // -1 when not stored
         uint32_t outside : 1;
         int32_t slot = -1;      // index of the entry in that cell
         int32_t levelSlot = -1; // index in m_levelProxies[level]

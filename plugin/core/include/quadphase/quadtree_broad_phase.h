@@ -70,8 +70,9 @@ public:
         // Inline fast path (Box2D calls this once per moving fixture, on one thread); anything unusual (unknown
         // id, bad box, a second move of the proxy, timing on) takes the out-of-line path.
         // int operands: & on bools is what is meant (no short-circuit branches), and clang warns otherwise.
-        if (__builtin_expect(
-                int(m_pool.IsLiveAndNotPending(id)) & int(IsSaneSimd(tight)) & int(m_queuedCount < m_fastRoom), 1))
+        if (__builtin_expect(int(m_pool.IsLiveAndNotPending(id)) & int(IsSaneSimd(tight)) &
+                                 int(m_queuedCount < m_fastRoom),
+                             1))
         {
             m_pool.MarkPending(id);
             // Field by field into the slot: a temporary QueuedMove copied in as a whole was a store-forwarding
@@ -246,13 +247,15 @@ private:
     ApplyLists m_applyLists;
     mutable std::atomic<bool> m_hasQueued{false}; // m_queuedCount > 0, readable without the lock
     mutable std::atomic<bool> m_hasStale{false};  // !m_stale.empty(), readable without the lock
-    mutable std::mutex m_queueMutex; // serialises const calls that apply the queue
-    std::vector<ProxyId> m_work; // proxies whose pairs the current FindPairs searches (the pool's move buffer)
-    std::vector<ProxyId> m_stale; // proxies whose fat box changed since their cell entry was written (see MoveProxy)
+    mutable std::mutex m_queueMutex;              // serialises const calls that apply the queue
+    // proxies whose pairs the current FindPairs searches (the pool's move buffer)
+    std::vector<ProxyId> m_work;
+    // proxies whose fat box changed since their cell entry was written (see MoveProxy)
+    std::vector<ProxyId> m_stale;
     std::vector<std::vector<Pair>> m_blockPairs; // parallel FindPairs: the pairs of each block of m_work
-    int32_t m_tunedCount = 0;    // live proxies at the last automatic tuning
-    int32_t m_tunedOutside = 0;  // proxies outside the bounds right after the last automatic tuning
-    ThreadChoice m_choice; // Config::threads == 0: serial or parallel FindPairs calls
+    int32_t m_tunedCount = 0;                    // live proxies at the last automatic tuning
+    int32_t m_tunedOutside = 0; // proxies outside the bounds right after the last automatic tuning
+    ThreadChoice m_choice;      // Config::threads == 0: serial or parallel FindPairs calls
     // Seconds spent applying queued moves since the last FindPairs that consulted m_choice: the part of a mode's
     // window (see ThreadChoice) that lies outside the calls.
     double m_aftermathSeconds = 0.0;
@@ -262,7 +265,7 @@ private:
     uint64_t m_mutations = 0;
     BoxMirror m_mirror; // see SetBoxMirror; disabled by default
     bool m_timing = false;
-    mutable Stats m_counters;    // work counters only; shape fields are filled by GetStats
+    mutable Stats m_counters; // work counters only; shape fields are filled by GetStats
 };
 
 } // namespace quadphase

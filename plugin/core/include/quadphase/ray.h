@@ -22,8 +22,7 @@ class SegmentTest
 {
 public:
     /// Requires p1 != p2 (Box2D asserts the same).
-    explicit SegmentTest(const RayInput& input)
-        : m_p1(input.p1)
+    explicit SegmentTest(const RayInput& input) : m_p1(input.p1)
     {
         float rx = input.p2.x - input.p1.x;
         float ry = input.p2.y - input.p1.y;
@@ -68,7 +67,8 @@ public:
         const float cy = 0.5f * (box.minY + box.maxY);
         const float hx = 0.5f * (box.maxX - box.minX);
         const float hy = 0.5f * (box.maxY - box.minY);
-        const float separation = std::fabs(m_vx * (m_p1.x - cx) + m_vy * (m_p1.y - cy)) - (m_absVx * hx + m_absVy * hy);
+        const float separation =
+            std::fabs(m_vx * (m_p1.x - cx) + m_vy * (m_p1.y - cy)) - (m_absVx * hx + m_absVy * hy);
         return !(separation > 0.0f);
     }
 

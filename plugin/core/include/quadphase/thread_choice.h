@@ -31,7 +31,8 @@ class ThreadChoice
 {
 public:
     static constexpr int kProbeCalls = 3;
-    static constexpr double kParallelMargin = 0.85; // parallel is preferred when under this fraction of serial
+    // parallel is preferred when under this fraction of serial
+    static constexpr double kParallelMargin = 0.85;
 
     /// The mode of the next eligible call: true for parallel.
     bool Next()
