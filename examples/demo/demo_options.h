@@ -1,25 +1,19 @@
 // Command-line options shared by quadphase-demo (side_by_side.cpp) and its two workers (step_scene.cpp).
 #pragma once
 
-#include <charconv>
 #include <cstdint>
-#include <stdexcept>
 #include <string>
-#include <string_view>
-#include <system_error>
 #include <vector>
 
+#include "quadphase_scenes/scene_options.h"
 #include "quadphase_scenes/scenes.h"
 
 namespace quadphase::demo
 {
 
-/// A command-line mistake: the program prints the message and exits with status 2.
-class UsageError : public std::runtime_error
-{
-public:
-    using std::runtime_error::runtime_error;
-};
+using scenes::ParseInteger;
+using scenes::UsageError;
+using scenes::WalkOptions;
 
 struct Options
 {
@@ -42,93 +36,25 @@ struct Accepts
     bool repeat = false;
 };
 
-inline int64_t ParseInteger(std::string_view option, std::string_view text, int64_t lo, int64_t hi)
-{
-    int64_t value = 0;
-    const char* first = text.data();
-    const char* last = text.data() + text.size();
-    const auto [ptr, ec] = std::from_chars(first, last, value);
-    if (text.empty() || ec != std::errc() || ptr != last)
-    {
-        throw UsageError("option " + std::string(option) + " expects an integer, got '" + std::string(text) +
-                         "'");
-    }
-    if (value < lo || value > hi)
-    {
-        throw UsageError("option " + std::string(option) + " must be in [" + std::to_string(lo) + ", " +
-                         std::to_string(hi) + "], got " + std::to_string(value));
-    }
-    return value;
-}
-
 /// Parses argv (without argv[0]). Accepts "--name value" and "--name=value". Throws UsageError.
 inline Options ParseOptions(const std::vector<std::string>& args, Accepts accepts)
 {
     Options options;
     bool warmupGiven = false;
-    for (size_t i = 0; i < args.size(); ++i)
-    {
-        std::string name = args[i];
-        std::string value;
-        bool hasValue = false;
-        const size_t equals = name.find('=');
-        if (name.rfind("--", 0) == 0 && equals != std::string::npos)
-        {
-            value = name.substr(equals + 1);
-            name = name.substr(0, equals);
-            hasValue = true;
-        }
-        auto takeValue = [&]() -> std::string {
-            if (hasValue)
-            {
-                return value;
-            }
-            if (i + 1 >= args.size())
-            {
-                throw UsageError("option " + name + " needs a value");
-            }
-            return args[++i];
-        };
-        auto noValue = [&]() {
-            if (hasValue)
-            {
-                throw UsageError("option " + name + " takes no value");
-            }
-        };
-
+    WalkOptions(args, [&](const std::string& name, auto&& takeValue, auto&& noValue, const std::string& raw) {
         if (name == "--help" || name == "-h")
         {
             noValue();
             options.help = true;
         }
-        else if (name == "--scene")
+        else if (scenes::ParseSceneOption(name, takeValue, options))
         {
-            options.scene = takeValue();
-            const auto id = scenes::ParseSceneName(options.scene);
-            if (!id)
-            {
-                throw UsageError("unknown scene '" + options.scene + "' (scenes: " + scenes::SceneNameList() +
-                                 ")");
-            }
-            options.sceneId = *id;
-            options.scene = scenes::SceneName(*id);
-        }
-        else if (name == "--size")
-        {
-            options.size = static_cast<int>(ParseInteger(name, takeValue(), 1, 100000000));
-        }
-        else if (name == "--steps")
-        {
-            options.steps = static_cast<int>(ParseInteger(name, takeValue(), 1, 10000000));
+            // --scene, --size, --steps or --seed
         }
         else if (name == "--warmup")
         {
             options.warmup = static_cast<int>(ParseInteger(name, takeValue(), 0, 10000000));
             warmupGiven = true;
-        }
-        else if (name == "--seed")
-        {
-            options.seed = static_cast<uint32_t>(ParseInteger(name, takeValue(), 0, UINT32_MAX));
         }
         else if (name == "--validate")
         {
@@ -151,25 +77,15 @@ inline Options ParseOptions(const std::vector<std::string>& args, Accepts accept
         }
         else
         {
-            throw UsageError("unknown option '" + args[i] + "'");
+            throw UsageError("unknown option '" + raw + "'");
         }
-    }
+    });
     if (options.help)
     {
         return options;
     }
 
-    const scenes::SceneInfo& info = scenes::GetSceneInfo(options.sceneId);
-    if (options.size < 0)
-    {
-        options.size = info.defaultSize;
-    }
-    else if (options.size < info.minSize || options.size > info.maxSize)
-    {
-        throw UsageError("--size " + std::to_string(options.size) + " is outside the range of scene '" +
-                         info.name + "' [" + std::to_string(info.minSize) + ", " +
-                         std::to_string(info.maxSize) + "] (size = " + info.sizeMeaning + ")");
-    }
+    scenes::ResolveSceneSize(options.sceneId, options.size);
     if (!warmupGiven && options.warmup >= options.steps)
     {
         options.warmup = options.steps / 10;

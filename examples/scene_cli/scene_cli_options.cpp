@@ -1,10 +1,7 @@
 // Parsing and help text of quadphase-scene's options.
 #include "scene_cli_options.h"
 
-#include <charconv>
 #include <cstdlib>
-#include <string_view>
-#include <system_error>
 
 namespace quadphase::scene_cli
 {
@@ -12,23 +9,8 @@ namespace quadphase::scene_cli
 namespace
 {
 
-int64_t ParseInteger(const std::string& option, const std::string& text, int64_t lo, int64_t hi)
-{
-    int64_t value = 0;
-    const char* first = text.data();
-    const char* last = text.data() + text.size();
-    const auto [ptr, ec] = std::from_chars(first, last, value);
-    if (text.empty() || ec != std::errc() || ptr != last)
-    {
-        throw UsageError("option " + option + " expects an integer, got '" + text + "'");
-    }
-    if (value < lo || value > hi)
-    {
-        throw UsageError("option " + option + " must be in [" + std::to_string(lo) + ", " +
-                         std::to_string(hi) + "], got " + std::to_string(value));
-    }
-    return value;
-}
+using scenes::ParseInteger;
+using scenes::WalkOptions;
 
 float ParseFloat(const std::string& option, const std::string& text)
 {
@@ -83,43 +65,6 @@ bool EndsWith(const std::string& text, const std::string& suffix)
            text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-/// Walks args, splitting "--name=value", and calls handle(name, takeValue, noValue, raw) for each option.
-template <typename Handler>
-void Walk(const std::vector<std::string>& args, Handler&& handle)
-{
-    for (size_t i = 0; i < args.size(); ++i)
-    {
-        std::string name = args[i];
-        std::string value;
-        bool hasValue = false;
-        const size_t equals = name.find('=');
-        if (name.rfind("--", 0) == 0 && equals != std::string::npos)
-        {
-            value = name.substr(equals + 1);
-            name = name.substr(0, equals);
-            hasValue = true;
-        }
-        auto takeValue = [&]() -> std::string {
-            if (hasValue)
-            {
-                return value;
-            }
-            if (i + 1 >= args.size())
-            {
-                throw UsageError("option " + name + " needs a value");
-            }
-            return args[++i];
-        };
-        auto noValue = [&]() {
-            if (hasValue)
-            {
-                throw UsageError("option " + name + " takes no value");
-            }
-        };
-        handle(name, takeValue, noValue, args[i]);
-    }
-}
-
 } // namespace
 
 std::string FindBroadphase(const std::vector<std::string>& args)
@@ -147,34 +92,15 @@ Options ParseOptions(const std::vector<std::string>& args)
 {
     Options options;
     bool everyGiven = false;
-    Walk(args, [&](const std::string& name, auto&& takeValue, auto&& noValue, const std::string& raw) {
+    WalkOptions(args, [&](const std::string& name, auto&& takeValue, auto&& noValue, const std::string& raw) {
         if (name == "--help" || name == "-h")
         {
             noValue();
             options.help = true;
         }
-        else if (name == "--scene")
+        else if (scenes::ParseSceneOption(name, takeValue, options))
         {
-            const std::string value = takeValue();
-            const auto id = scenes::ParseSceneName(value);
-            if (!id)
-            {
-                throw UsageError("unknown scene '" + value + "' (scenes: " + scenes::SceneNameList() + ")");
-            }
-            options.sceneId = *id;
-            options.scene = scenes::SceneName(*id);
-        }
-        else if (name == "--size")
-        {
-            options.size = static_cast<int>(ParseInteger(name, takeValue(), 1, 100000000));
-        }
-        else if (name == "--steps")
-        {
-            options.steps = static_cast<int>(ParseInteger(name, takeValue(), 1, 10000000));
-        }
-        else if (name == "--seed")
-        {
-            options.seed = static_cast<uint32_t>(ParseInteger(name, takeValue(), 0, UINT32_MAX));
+            // --scene, --size, --steps or --seed
         }
         else if (name == "--broadphase")
         {
@@ -252,17 +178,7 @@ Options ParseOptions(const std::vector<std::string>& args)
         return options;
     }
 
-    const scenes::SceneInfo& info = scenes::GetSceneInfo(options.sceneId);
-    if (options.size < 0)
-    {
-        options.size = info.defaultSize;
-    }
-    else if (options.size < info.minSize || options.size > info.maxSize)
-    {
-        throw UsageError("--size " + std::to_string(options.size) + " is outside the range of scene '" +
-                         info.name + "' [" + std::to_string(info.minSize) + ", " +
-                         std::to_string(info.maxSize) + "] (size = " + info.sizeMeaning + ")");
-    }
+    scenes::ResolveSceneSize(options.sceneId, options.size);
     if (options.threads >= 0 && options.broadphase != "quadtree")
     {
         throw UsageError(

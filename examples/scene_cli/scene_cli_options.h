@@ -3,21 +3,17 @@
 #pragma once
 
 #include <cstdint>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "quadphase_scenes/scene_options.h"
 #include "quadphase_scenes/scenes.h"
 
 namespace quadphase::scene_cli
 {
 
 /// A command-line mistake: the program prints "quadphase-scene: error: <message>" and exits with status 2.
-class UsageError : public std::runtime_error
-{
-public:
-    using std::runtime_error::runtime_error;
-};
+using scenes::UsageError;
 
 /// A world rectangle, metres.
 struct ViewRect
