@@ -6,13 +6,13 @@
 #   1. apt installs Debian's caveexpress and libbox2d2 (if they are not installed yet);
 #   2. apt installs DEBDIR's libbox2d2-quadphase and libbox2d-quadphase-dev over them: libbox2d2 goes, caveexpress
 #      stays, and a simulated `apt-get full-upgrade` does not bring libbox2d2 back; quadphase-which says
-#      caveexpress loads quadphase's library; a program built with `pkg-config box2d` against the -dev package
-#      loads it too;
+#      caveexpress loads quadphase's library; programs built against the -dev package with `pkg-config box2d`
+#      and with CMake's find_package(box2d) load it too;
 #      caveexpress (Debian's binary, no LD_LIBRARY_PATH) starts on a map under Xvfb with QUADPHASE_VALIDATE=1: its
 #      /proc/PID/maps line shows the package's library, and validation reports 0 mismatches;
 #   3. one apt transaction removes both packages and installs Debian's libbox2d2 again; the same start maps Debian's
 #      library (dpkg -S, quadphase-which from the package's copy: stock), and `dpkg --verify libbox2d2` is clean.
-# Whatever happens (an EXIT trap), the machine is put back as the script found it: every package its apt commands
+# Whatever happens (an EXIT trap; also on Ctrl-C, SIGTERM or SIGHUP), the machine is put back as the script found it: every package its apt commands
 # installed is purged, every package they removed or changed is installed again at its version (with its automatic
 # mark); it says so at the end, or lists what it could not restore. It refuses to start when quadphase's packages
 # are installed already. Work files and logs: DEBDIR/check/.
@@ -68,22 +68,29 @@ apt-mark showauto | sort >"$work/auto-before.txt"
 apt_log=$work/apt.log
 # apt-get -y ARG...; the packages whose state it changed go to touched.txt: only those are put back (other
 # sessions may install packages on this machine meanwhile).
+apt_running=""
 apt_run() {
     local status=0
     snapshot "$work/apt-pre.txt"
     echo "deb-check: apt-get install $*" | tee -a "$apt_log"
+    apt_running=1 # a signal during apt-get: restore() records what it changed
     DEBIAN_FRONTEND=noninteractive "${as_root[@]}" apt-get -y -o DPkg::Lock::Timeout=600 --no-install-recommends \
         install "$@" >>"$apt_log" 2>&1 || status=$?
+    record_touched
+    [[ $status -eq 0 ]] || { tail -n 20 "$apt_log" >&2; echo "deb-check: apt-get failed ($status)" >&2; }
+    return $status
+}
+record_touched() { # the packages changed since apt-pre.txt
     snapshot "$work/apt-post.txt"
     diff "$work/apt-pre.txt" "$work/apt-post.txt" | sed -n 's/^[<>] \([^\t]*\)\t.*/\1/p' >>"$work/touched.txt"
     sort -u -o "$work/touched.txt" "$work/touched.txt"
-    [[ $status -eq 0 ]] || { tail -n 20 "$apt_log" >&2; echo "deb-check: apt-get failed ($status)" >&2; }
-    return $status
+    apt_running=""
 }
 restored=""
 restore() {
     set +e
     qp_x_cleanup
+    [[ -z "$apt_running" ]] || record_touched
     snapshot "$work/now.txt"
     local changes=() p want have
     while read -r p; do
@@ -151,6 +158,8 @@ summary() {
 start=$(date +%s)
 summary_lines=()
 trap summary EXIT
+trap 'exit 130' INT
+trap 'exit 143' TERM HUP # so that the EXIT trap runs
 
 # Starts caveexpress on $map with QUADPHASE_VALIDATE=1 and no LD_LIBRARY_PATH; sets run_maps and run_validation.
 run_game() { # NAME
@@ -221,6 +230,23 @@ if g++ $(pkg-config --cflags box2d) "$work/world.cpp" -o "$work/world" $(pkg-con
     summary_lines+=("-dev: g++ \$(pkg-config --cflags --libs box2d): $dev_line")
 else
     fail "a program does not build with pkg-config box2d (see $work/world-build.log)"
+fi
+# ... and one built with CMake's find_package(box2d) and box2d::box2d.
+mkdir -p "$work/cmake-game"
+cat >"$work/cmake-game/CMakeLists.txt" <<'CMAKE'
+cmake_minimum_required(VERSION 3.20)
+project(world CXX)
+find_package(box2d REQUIRED)
+add_executable(world ../world.cpp)
+target_link_libraries(world PRIVATE box2d::box2d)
+CMAKE
+if cmake -S "$work/cmake-game" -B "$work/cmake-game/build" >"$work/cmake-game.log" 2>&1 &&
+   cmake --build "$work/cmake-game/build" >>"$work/cmake-game.log" 2>&1; then
+    cmake_which=$(quadphase-which "$work/cmake-game/build/world") || true
+    echo "deb-check: -dev: find_package(box2d) $(sed -n 's/^box2d_DIR:PATH=//p' "$work/cmake-game/build/CMakeCache.txt"): $cmake_which"
+    [[ "$cmake_which" == *": quadphase, "* ]] || fail "a program built with find_package(box2d) does not load quadphase's"
+else
+    fail "a program does not build with find_package(box2d) (see $work/cmake-game.log)"
 fi
 run_game quadphase
 installed_maps=$run_maps

@@ -3,7 +3,7 @@
 #
 #   scripts/deb.sh [OUTDIR]      # default build/deb
 #
-# writes into OUTDIR
+# writes into OUTDIR (replacing the .deb files there)
 #   libbox2d2-quadphase_<version>_<arch>.deb      /usr/lib/<triplet>/libbox2d.so.2.4.1 and libbox2d.so.2,
 #                                                 /usr/bin/quadphase-which; Provides, Conflicts, Replaces libbox2d2
 #   libbox2d-quadphase-dev_<version>_<arch>.deb   headers, libbox2d.so, libbox2d.a, box2d.pc, box2dConfig.cmake;

@@ -67,7 +67,7 @@ qp_game_stop() {
     done
     kill -KILL "$QP_GAME_PID" 2>/dev/null || true # still running after 10 s: status 137
     QP_GAME_STATUS=0
-    wait "$QP_GAME_PID" || QP_GAME_STATUS=$?
+    { wait "$QP_GAME_PID"; } 2>/dev/null || QP_GAME_STATUS=$? # the status says it; no "Aborted" line from bash
     QP_GAME_PID=""
 }
 
