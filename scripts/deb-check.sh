@@ -12,9 +12,9 @@
 #      /proc/PID/maps line shows the package's library, and validation reports 0 mismatches;
 #   3. one apt transaction removes both packages and installs Debian's libbox2d2 again; the same start maps Debian's
 #      library (dpkg -S, quadphase-which from the package's copy: stock), and `dpkg --verify libbox2d2` is clean.
-# Whatever happens (an EXIT trap; also on Ctrl-C, SIGTERM or SIGHUP), the machine is put back as the script found it: every package its apt commands
-# installed is purged, every package they removed or changed is installed again at its version (with its automatic
-# mark); it says so at the end, or lists what it could not restore. It refuses to start when quadphase's packages
+# Whatever happens (an EXIT trap; also on Ctrl-C, SIGTERM or SIGHUP), the machine is put back as the script found
+# it: every package its apt commands installed is purged, every package they removed or changed is installed again
+# at its version (with its automatic mark); it says so at the end, or lists what it could not restore. It refuses to start when quadphase's packages
 # are installed already. Work files and logs: DEBDIR/check/.
 # Environment: QUADPHASE_SKIP_DEPS=1 (no scripts/install-deps.sh --for deb-check).
 # Exit status: 0 when every check passed and the machine was restored, 1 otherwise, 2 on bad arguments.

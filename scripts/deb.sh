@@ -10,8 +10,9 @@
 #                                                 Provides, Conflicts, Replaces libbox2d-dev
 #   lintian.txt                                   lintian's report on both (it fails the script on any error)
 # with debhelper (scripts/debian/, docs/packaging.md): dpkg-buildpackage -b in OUTDIR/work, on a copy of
-# CMakeLists.txt, cmake/ and plugin/ with scripts/debian/ as its debian/. <version> is 2.4.1+quadphase<project version>-<n>, from
-# scripts/debian/changelog, whose upstream part must match CMakeLists.txt's project version.
+# CMakeLists.txt, cmake/ and plugin/ with scripts/debian/ as its debian/. <version> is
+# 2.4.1+quadphase<project version>-<n>, from scripts/debian/changelog, whose upstream part must match
+# CMakeLists.txt's project version.
 # Environment: QUADPHASE_BOX2D_SOURCE_DIR or QUADPHASE_BOX2D_TARBALL (Box2D 2.4.1's source, else fetched and
 # checked by CMake), QUADPHASE_SKIP_DEPS=1 (no scripts/install-deps.sh), JOBS (parallel jobs, default nproc).
 # Install: apt install ./OUTDIR/*.deb; back to stock: apt install libbox2d2 (README "Install system-wide").
