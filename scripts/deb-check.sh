@@ -26,6 +26,7 @@ case "${1:-}" in -h | --help) sed -n '2,/^source /p' "$0" | sed '$d; s/^# \{0,1\
 debdir=${1:-build/deb}
 readonly ours=(libbox2d2-quadphase libbox2d-quadphase-dev)
 readonly map=ice-01 play_seconds=6
+export LC_ALL=C # sort and comm agree on the order; apt's messages parse the same everywhere
 
 die() { echo "deb-check: $*" >&2; exit 1; }
 failures=()
@@ -86,6 +87,8 @@ record_touched() { # the packages changed since apt-pre.txt
     sort -u -o "$work/touched.txt" "$work/touched.txt"
     apt_running=""
 }
+# Whether PACKAGE (name or name:arch) is in an `apt-mark showauto` list (which names native packages without arch).
+is_auto() { grep -qxF -e "$1" -e "${1%%:*}" "$2"; }
 restored=""
 restore() {
     set +e
@@ -118,25 +121,29 @@ restore() {
     fi
     # Automatic marks as they were (apt-get install marks what it names as installed by hand).
     while read -r p; do
-        grep -qxF "$p" "$work/auto-before.txt" && "${as_root[@]}" apt-mark auto "$p" >/dev/null
+        is_auto "$p" "$work/auto-before.txt" && "${as_root[@]}" apt-mark auto "$p" >/dev/null
     done < <(comm -12 "$work/touched.txt" <(cut -f1 "$work/before.txt"))
     snapshot "$work/after.txt"
     apt-mark showauto | sort >"$work/auto-after.txt"
-    local diffs=""
+    local diffs="" mark_before mark_after
     while read -r p; do
         want=$(awk -F'\t' -v p="$p" '$1 == p { print $2 }' "$work/before.txt")
         have=$(awk -F'\t' -v p="$p" '$1 == p { print $2 }' "$work/after.txt")
         [[ "$want" == "$have" ]] || diffs+="  $p: before ${want:-not installed}, now ${have:-not installed}"$'\n'
+        [[ -n "$want" && "$want" == "$have" ]] || continue
+        mark_before=manual mark_after=manual
+        is_auto "$p" "$work/auto-before.txt" && mark_before=auto
+        is_auto "$p" "$work/auto-after.txt" && mark_after=auto
+        [[ $mark_before == "$mark_after" ]] || diffs+="  $p: installed $mark_before before, $mark_after now"$'\n'
     done <"$work/touched.txt"
-    if [[ -z "$diffs" ]] && diff -q "$work/auto-before.txt" "$work/auto-after.txt" >/dev/null; then
+    if [[ -z "$diffs" ]]; then
         restored=yes
         echo "deb-check: machine restored: $(wc -l <"$work/touched.txt") packages touched, each as it was" \
              "($work/before.txt, $work/after.txt)"
     else
         restored=no
         echo "deb-check: machine NOT fully restored:" >&2
-        [[ -z "$diffs" ]] || printf %s "$diffs" >&2
-        diff "$work/auto-before.txt" "$work/auto-after.txt" >&2
+        printf %s "$diffs" >&2
     fi
 }
 summary() {
@@ -182,7 +189,10 @@ run_game() { # NAME
 owner() { dpkg-query -S "$1" 2>/dev/null | cut -d: -f1; }
 
 # --- 1. Debian's caveexpress and libbox2d2 ----------------------------------------------------------------------
-apt_run caveexpress libbox2d2 || die "could not install Debian's caveexpress and libbox2d2"
+missing=()
+for p in caveexpress libbox2d2; do installed "$p" || missing+=("$p"); done
+# (apt-get install would mark an installed package as installed by hand: only the missing ones)
+[[ ${#missing[@]} -eq 0 ]] || apt_run "${missing[@]}" || die "could not install Debian's caveexpress and libbox2d2"
 echo "deb-check: $(dpkg-query -W -f='${Package} ${Version}, ' caveexpress libbox2d2)$library from $(owner "$library")"
 
 # --- 2. quadphase's packages over them --------------------------------------------------------------------------
@@ -256,7 +266,7 @@ summary_lines+=("installed: maps  $installed_maps" "installed: validation: $run_
 
 # --- 3. back to Debian's libbox2d2 ------------------------------------------------------------------------------
 back=(libbox2d2)
-grep -q $'^libbox2d-dev\t' "$work/before.txt" && back+=(libbox2d-dev)
+grep -qE '^libbox2d-dev(:[a-z0-9]+)?	' "$work/before.txt" && back+=(libbox2d-dev)
 apt_run --purge "${back[@]}" "${ours[@]/%/-}" || die "apt could not go back to Debian's libbox2d2"
 for p in "${ours[@]}"; do ! installed "$p" || fail "$p is still installed"; done
 installed caveexpress || fail "caveexpress was removed with quadphase's packages"
