@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Install the Debian/Ubuntu packages a command of this repository needs, and nothing else.
 #
-#   scripts/install-deps.sh                       # every purpose but real-game: what CI (.ci/run) and the
+#   scripts/install-deps.sh                       # every purpose but real-game and deb-check: what CI (.ci/run) and the
 #                                                 # scripts in scripts/ and bench/ use together
 #   scripts/install-deps.sh --for test            # one purpose (repeat --for for several)
 #   scripts/install-deps.sh --for bench python3-matplotlib   # extra package names are installed too
@@ -19,6 +19,8 @@
 #   fuzz         scripts/fuzz.sh: + clang-14's libFuzzer and sanitizer runtimes, libomp
 #   real-game    scripts/real-game.sh: + CaveExpress's build dependencies, Debian's caveexpress package, Xvfb,
 #                Mesa, xdotool, imagemagick
+#   deb          scripts/deb.sh: + debhelper, dpkg-dev, lintian (Debian packages of quadphase's libbox2d)
+#   deb-check    scripts/deb-check.sh: + Xvfb, Mesa (its round trip installs and removes caveexpress itself)
 # Idempotent: does nothing (and no `apt-get update`) when everything is installed. Runs as root, or through sudo.
 set -euo pipefail
 
@@ -55,10 +57,12 @@ packages_for() {
                 libsdl2-mixer-dev libsdl2-net-dev libsqlite3-dev libtinyxml2-dev libyajl-dev zlib1g-dev
             echo caveexpress "${xvfb[@]}" imagemagick
             ;;
+        deb) echo debhelper dpkg-dev lintian ;;
+        deb-check) echo "${xvfb[@]}" ;;
         *) return 1 ;;
     esac
 }
-all_purposes=(test demo render testbed bench race sanitize fuzz)
+all_purposes=(test demo render testbed bench race sanitize fuzz deb)
 
 usage() {
     sed -n '2,/^set -euo/p' "${BASH_SOURCE[0]}" | sed '$d; s/^# \{0,1\}//'
@@ -72,7 +76,7 @@ while [[ $# -gt 0 ]]; do
         --for)
             [[ $# -ge 2 ]] || { echo "install-deps: --for needs a purpose" >&2; exit 2; }
             packages_for "$2" >/dev/null || {
-                echo "install-deps: unknown purpose '$2' (one of: ${all_purposes[*]} real-game)" >&2
+                echo "install-deps: unknown purpose '$2' (one of: ${all_purposes[*]} real-game deb-check)" >&2
                 exit 2
             }
             purposes+=("$2")

@@ -43,6 +43,7 @@
 # QUADPHASE_SKIP_DEPS=1 (as --skip-deps).
 # Exit status: 0 when every phase that ran passed its checks, 1 otherwise, 2 on bad arguments.
 source "$(dirname "${BASH_SOURCE[0]}")/lib/build.sh"
+source "$(dirname "${BASH_SOURCE[0]}")/lib/caveexpress.sh"
 root=$PWD
 
 readonly caveexpress_version=2.5.2
@@ -118,15 +119,6 @@ fail() {
     echo "real-game: FAIL: $*" >&2
     failures+=("$*")
 }
-# Counts quadphase's validation reports in a log: "<mismatch lines> <checked UpdatePairs or ->".
-validation_counts() {
-    local mismatches checked
-    mismatches=$(grep -c '^quadphase: validation mismatch' "$1" || true)
-    checked=$(sed -n 's/^quadphase: validation: \([0-9]*\) UpdatePairs checked.*/\1/p' "$1" |
-              awk '{ n += $1; seen = 1 } END { print seen ? n : "-" }')
-    echo "$mismatches $checked"
-}
-
 QP_JOBS=$jobs
 QP_LOG=1 # qp_configure and qp_build: logs in their build directory, the tail on failure
 
@@ -283,7 +275,7 @@ if [[ -z "${skip[tests]:-}" ]]; then
         [[ -n "$ran" && "$ran" -eq $((tests_passed[$v] + tests_failed[$v])) ]] ||
             fail "$v: tests_caveexpress did not finish (${ran:-no} summary; see $log)"
         if [[ $v == quadphase ]]; then
-            read -r mismatches checked <<<"$(validation_counts "$work/tests-$v.err")"
+            read -r mismatches checked <<<"$(qp_validation_counts "$work/tests-$v.err")"
             tests_validation[$v]="$mismatches mismatches, $checked UpdatePairs checked"
             [[ $mismatches -eq 0 ]] ||
                 fail "quadphase: $mismatches validation mismatches in the tests (see $work/tests-$v.err)"
@@ -324,7 +316,7 @@ if [[ -z "${skip[physics]:-}" ]]; then
         (cd "$src" && HOME="$work/home-physics" QUADPHASE_VALIDATE=1 \
             ./caveexpress-physics --seconds "$seconds" "$map") >"$work/physics-validate-$map.tsv" 2>"$err" ||
             fail "quadphase: caveexpress-physics $map with QUADPHASE_VALIDATE=1 failed (see $err)"
-        read -r mismatches checked <<<"$(validation_counts "$err")"
+        read -r mismatches checked <<<"$(qp_validation_counts "$err")"
         map_validation[$map]="$mismatches mismatches, $checked UpdatePairs checked"
         echo "real-game:   quadphase $map, QUADPHASE_VALIDATE=1: ${map_validation[$map]}"
         [[ $mismatches -eq 0 ]] || fail "quadphase: $mismatches validation mismatches on $map (see $err)"
@@ -336,53 +328,30 @@ fi
 maps_line="" binary_validation="" binary_status="" screenshot=""
 if [[ -z "${skip[binary]:-}" ]]; then
     phase binary
-    game=/usr/games/caveexpress
+    game=$QP_GAME
     [[ -x "$game" ]] || die "$game missing: Debian's package caveexpress (scripts/install-deps.sh --for real-game)"
     echo "real-game: $(dpkg-query -W -f='${Package} ${Version}' caveexpress), as installed: ldd $game:" \
          "$(ldd "$game" | grep libbox2d)"
     for cmd in Xvfb import; do
         command -v "$cmd" >/dev/null || die "$cmd not found (scripts/install-deps.sh --for real-game)"
     done
-    display=99
-    while [[ -e /tmp/.X11-unix/X$display || -e /tmp/.X$display-lock ]]; do display=$((display + 1)); done
-    Xvfb ":$display" -screen 0 1024x768x24 -nolisten tcp >"$work/binary-xvfb.log" 2>&1 &
-    xvfb_pid=$!
-    game_pid=""
-    cleanup() {
-        if [[ -n "$game_pid" ]]; then kill -KILL "$game_pid" 2>/dev/null || true; fi
-        kill "$xvfb_pid" 2>/dev/null || true
-    }
-    trap cleanup EXIT
-    for _ in $(seq 50); do
-        [[ -e /tmp/.X11-unix/X$display ]] && break
-        sleep 0.1
-    done
-    [[ -e /tmp/.X11-unix/X$display ]] || die "Xvfb did not start (see $work/binary-xvfb.log)"
+    trap qp_x_cleanup EXIT
+    qp_xvfb_start "$work/binary-xvfb.log" || die "Xvfb did not start (see $work/binary-xvfb.log)"
     rm -rf "$work/home-binary" && mkdir -p "$work/home-binary"
     log=$work/binary.log
     echo "real-game: LD_LIBRARY_PATH=${prefix[quadphase]}/lib QUADPHASE_VALIDATE=1 $game -map $binary_map" \
-         "(Xvfb :$display)"
-    # The game's own -map command line loads the map, opens its server and connects its client: a level runs.
-    env DISPLAY=":$display" HOME="$work/home-binary" SDL_AUDIODRIVER=dummy LIBGL_ALWAYS_SOFTWARE=1 \
-        LD_LIBRARY_PATH="${prefix[quadphase]}/lib" QUADPHASE_VALIDATE=1 \
-        "$game" -map "$binary_map" >"$log" 2>&1 &
-    game_pid=$!
-    # The level runs from the server's "start the map" (a few seconds of start-up under Mesa's software GL).
-    for _ in $(seq 600); do
-        grep -q "start the map" "$log" 2>/dev/null && break
-        kill -0 "$game_pid" 2>/dev/null || break
-        sleep 0.1
-    done
-    grep -q "start the map" "$log" || fail "no map started in the binary within 60 s (see $log)"
+         "(Xvfb $QP_DISPLAY)"
+    qp_game_start "$log" "$work/home-binary" "$binary_map" LD_LIBRARY_PATH="${prefix[quadphase]}/lib" \
+        QUADPHASE_VALIDATE=1 || fail "no map started in the binary within 60 s (see $log)"
     sleep "$binary_seconds"
-    if kill -0 "$game_pid" 2>/dev/null; then
-        maps_line=$(grep -m1 'libbox2d\.so' "/proc/$game_pid/maps" || true)
-        echo "real-game: /proc/$game_pid/maps: $maps_line"
+    if kill -0 "$QP_GAME_PID" 2>/dev/null; then
+        maps_line=$(qp_game_maps_line)
+        echo "real-game: /proc/$QP_GAME_PID/maps: $maps_line"
         [[ "$maps_line" == *"$(readlink -f "${prefix[quadphase]}/lib/libbox2d.so.2")" ]] ||
             fail "the binary did not load quadphase's libbox2d.so.2 (maps: '$maps_line')"
         ! grep -q "trigger map restart" "$log" || fail "the level ended before the screenshot (see $log)"
         screenshot=$work/binary-$binary_map.png
-        DISPLAY=":$display" import -window root "$screenshot"
+        DISPLAY="$QP_DISPLAY" import -window root "$screenshot"
         colours=$(identify -format '%k' "$screenshot")
         echo "real-game: screenshot $screenshot ($colours colours)"
         [[ $colours -gt 1000 ]] || fail "the screenshot has $colours colours: no level drawn?"
@@ -391,29 +360,21 @@ if [[ -z "${skip[binary]:-}" ]]; then
             cp "$screenshot" "$screenshot_copy"
             echo "real-game: copied to $screenshot_copy"
         fi
-        # SIGTERM is SDL's quit event: the game shuts its map down (deleting the b2World) and exits.
-        kill -TERM "$game_pid"
-        for _ in $(seq 100); do
-            kill -0 "$game_pid" 2>/dev/null || break
-            sleep 0.1
-        done
-        binary_status=0
-        wait "$game_pid" || binary_status=$?
-        game_pid=""
+        qp_game_stop
+        binary_status=$QP_GAME_STATUS
         # Debian's caveexpress aborts in its own exit handlers (std::bad_alloc, status 134) on Debian's libbox2d
         # too; that is the game's and is reported, not failed.
         echo "real-game: the binary exited with status $binary_status"
     else
-        binary_status=0
-        wait "$game_pid" || binary_status=$?
-        game_pid=""
+        qp_game_stop
+        binary_status=$QP_GAME_STATUS
         fail "the binary exited (status $binary_status) before the screenshot (see $log)"
     fi
-    read -r mismatches checked <<<"$(validation_counts "$log")"
+    read -r mismatches checked <<<"$(qp_validation_counts "$log")"
     binary_validation="$mismatches mismatches, $checked UpdatePairs checked"
     echo "real-game: binary validation: $binary_validation"
     [[ $mismatches -eq 0 ]] || fail "the binary reported $mismatches validation mismatches (see $log)"
-    cleanup
+    qp_x_cleanup
     trap - EXIT
 fi
 end_phase
