@@ -231,7 +231,7 @@ void ProcessLeaf(const std::vector<ProxyId>& objects, const Box& leafBox, int32_
 void PaperQuadtreeBroadPhase::FindPairs(std::vector<Pair>& out)
 {
     // flags the buffered proxies "in work" for the Buffered filter, clears the buffer
-    m_pool.TakeBuffer(m_work);
+    m_pool.LendBuffer(m_work);
     const int threads = m_threads > 0 ? m_threads : omp_get_max_threads();
     if (threads <= 1)
     {
@@ -246,7 +246,7 @@ void PaperQuadtreeBroadPhase::FindPairs(std::vector<Pair>& out)
     {
         m_nodes[size_t(node)].objects.clear();
     }
-    m_pool.ReleaseWork(m_work);
+    m_pool.ReturnBuffer(m_work);
 }
 
 // The paper's sequential quadtree ("Seq." in its tables): no parallel region; insertion still goes through the

@@ -64,7 +64,7 @@ TEST_CASE("ProxyPool's move buffer: call order, each once, destroyed proxies dro
     REQUIRE(pool.Validate() == "");
 
     std::vector<ProxyId> work{99};
-    pool.TakeBuffer(work);
+    pool.LendBuffer(work);
     REQUIRE(work == std::vector<ProxyId>{4, 1, 5});
     REQUIRE(pool.BufferedCount() == 0);
     for (ProxyId id = 0; id < pool.IdBound(); ++id)
@@ -73,16 +73,16 @@ TEST_CASE("ProxyPool's move buffer: call order, each once, destroyed proxies dro
         REQUIRE(pool.InWork(id) == (id == 4 || id == 1 || id == 5));
     }
     REQUIRE(pool.Validate() != ""); // "in work" outside FindPairs is a violation
-    pool.ReleaseWork(work);
+    pool.ReturnBuffer(work);
     REQUIRE(pool.Validate() == "");
 
     // a freed id, reused after the buffer was taken, is buffered afresh
     REQUIRE(pool.Allocate(Box{0, 0, 1, 1}, nullptr) == 2);
     pool.Buffer(2);
     pool.Buffer(0);
-    pool.TakeBuffer(work);
+    pool.LendBuffer(work);
     REQUIRE(work == std::vector<ProxyId>{2, 0});
-    pool.ReleaseWork(work);
+    pool.ReturnBuffer(work);
     REQUIRE(pool.Validate() == "");
 }
 

@@ -71,7 +71,7 @@ public:
     ErrorCounter(const ErrorCounter&) = delete;
     ErrorCounter& operator=(const ErrorCounter&) = delete;
 
-    int Count(ErrorCode code) const { return m_counts[int(code)]; }
+    int Count(ErrorCode code) const { return m_counts[Slot(code)]; }
     int Total() const { return m_counts[0] + m_counts[1] + m_counts[2] + m_counts[3]; }
     const std::string& LastMessage() const { return m_last; }
     ErrorCode LastCode() const { return m_lastCode; }
@@ -82,10 +82,13 @@ public:
     }
 
 private:
+    // The core's three codes, then one slot for every engine adapter code.
+    static int Slot(ErrorCode code) { return int(code) < 3 ? int(code) : 3; }
+
     static void Handle(ErrorCode code, const char* message, void* context)
     {
         ErrorCounter* self = static_cast<ErrorCounter*>(context);
-        self->m_counts[int(code)] += 1;
+        self->m_counts[Slot(code)] += 1;
         self->m_last = message;
         self->m_lastCode = code;
     }
@@ -93,7 +96,7 @@ private:
     quadphase::ErrorHandler m_previous = nullptr;
     int m_counts[4] = {0, 0, 0, 0};
     std::string m_last;
-    ErrorCode m_lastCode = ErrorCode::ValidationMismatch;
+    ErrorCode m_lastCode = ErrorCode::FirstAdapterCode;
 };
 
 // ---------------------------------------------------------------------------------------------------------------

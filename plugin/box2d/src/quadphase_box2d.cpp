@@ -1,3 +1,4 @@
+// quadphase's API for Box2D users (quadphase/box2d.h): reaches a b2World's broadphase and forwards to its quadtree.
 #include "quadphase/box2d.h"
 
 #include "box2d/b2_contact_manager.h"

@@ -1,3 +1,4 @@
+// ShadowValidator: a b2DynamicTree fed the same calls as the quadtree, compared with it at every UpdatePairs.
 #include "quadphase/shadow_validator.h"
 
 #include <algorithm>
@@ -120,7 +121,7 @@ void ShadowValidator::Mismatch(const std::string& what)
     {
         m_report.firstMismatch = what;
     }
-    ReportError(ErrorCode::ValidationMismatch, "%s", what.c_str());
+    ReportError(kValidationMismatch, "validation mismatch: %s", what.c_str());
 }
 
 void ShadowValidator::CompareFat(ProxyId id, const char* call)

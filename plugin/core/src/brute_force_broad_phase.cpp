@@ -1,3 +1,4 @@
+// BruteForceBroadPhase: every buffered proxy tested against every live one.
 #include "quadphase/brute_force_broad_phase.h"
 
 #include "quadphase/error.h"
@@ -46,22 +47,32 @@ void BruteForceBroadPhase::TouchProxy(ProxyId id)
 
 void BruteForceBroadPhase::FindPairs(std::vector<Pair>& out)
 {
-    m_pool.TakeBuffer(m_work);
-    for (ProxyId q : m_work)
+    m_pool.LendBuffer(m_work);
+    const size_t before = out.size();
+    try
     {
-        for (ProxyId p = 0; p < m_pool.IdBound(); ++p)
+        for (ProxyId q : m_work)
         {
-            if (p == q || !m_pool.IsLive(p) || (p > q && m_pool.InWork(p)))
+            for (ProxyId p = 0; p < m_pool.IdBound(); ++p)
             {
-                continue;
-            }
-            if (Overlaps(m_pool.Fat(p), m_pool.Fat(q)))
-            {
-                out.push_back(p < q ? Pair{p, q} : Pair{q, p});
+                if (p == q || !m_pool.IsLive(p) || (p > q && m_pool.InWork(p)))
+                {
+                    continue;
+                }
+                if (Overlaps(m_pool.Fat(p), m_pool.Fat(q)))
+                {
+                    out.push_back(p < q ? Pair{p, q} : Pair{q, p});
+                }
             }
         }
     }
-    m_pool.ReleaseWork(m_work);
+    catch (...)
+    {
+        out.resize(before); // std::bad_alloc: nothing reported, nothing lost
+        m_pool.RestoreBuffer(m_work);
+        throw;
+    }
+    m_pool.ReturnBuffer(m_work);
 }
 
 void ScanQuery(const ProxyPool& pool, const Box& box, QueryFn fn, void* context)

@@ -1,3 +1,4 @@
+// CellStore: block allocation in the shared entry array, compaction in cell order, and the invariant check.
 #include "quadphase/cell_store.h"
 
 #include <algorithm>
@@ -38,8 +39,7 @@ uint32_t CellStore::Allocate(uint32_t sizeClass)
     if (end > m_entries.capacity())
     {
         // Grow by an eighth rather than double: the array is most of the pyramid's memory, and Compact keeps
-        // its capacity, so the overshoot stays (at a quarter, rain 4000's replay heap per proxy equalled
-        // stock's).
+        // its capacity, so the overshoot stays (docs/design.md, "Memory").
         m_entries.reserve(std::max(end, m_entries.capacity() + m_entries.capacity() / 8));
     }
     m_entries.resize(end);
@@ -74,9 +74,8 @@ void CellStore::Compact()
 {
     // The live entries go to a scratch array in cell order, then back into the same array, each cell's block
     // of the smallest class that holds them. The array keeps its capacity: a fresh array per compaction came
-    // from the system as new pages every time (glibc serves large blocks by mmap), and faulting them in cost
-    // more than the copy itself (rain 64k replay, this VM: 2-3x the whole FindPairs of the steps that
-    // compacted).
+    // from the system as new pages every time (glibc serves large blocks by mmap), and faulting them in costs
+    // more than the copy itself (docs/design.md, "Memory").
     size_t live = 0;
     for (const Cell& c : m_cells)
     {
@@ -124,8 +123,7 @@ int64_t CellStore::MemoryBytes() const
 std::string CellStore::Validate() const
 {
     // Mark every slot owned by a cell or a free block; an overlap or an out-of-range block is a violation.
-    // The owner's name is built only for a message: Validate() runs after every check of the fuzz targets,
-    // and a string per occupied cell was a tenth of their time.
+    // The owner's name is built only for a message: Validate() runs after every check of the fuzz targets.
     std::vector<uint8_t> owned(m_entries.size(), 0);
     auto claim = [&](uint32_t begin, uint32_t sizeClass, const char* kind, size_t which) -> std::string {
         const size_t end = size_t(begin) + (size_t(1) << sizeClass);

@@ -1,3 +1,4 @@
+// The error hook: the process-wide handler, the default one (print, and abort in strict mode) and the code names.
 #include "quadphase/error.h"
 
 #include <cstdarg>
@@ -74,10 +75,10 @@ const char* ErrorCodeName(ErrorCode code)
         return "inverted box";
     case ErrorCode::UnknownProxy:
         return "unknown proxy";
-    case ErrorCode::ValidationMismatch:
-        return "validation mismatch";
+    case ErrorCode::FirstAdapterCode:
+        break;
     }
-    return "error";
+    return int(code) >= int(ErrorCode::FirstAdapterCode) ? "engine adapter error" : "error";
 }
 
 } // namespace quadphase

@@ -1,3 +1,4 @@
+// ProxyPool: id allocation, the move buffer and its loan to FindPairs, and the invariant check.
 #include "quadphase/proxy_pool.h"
 
 #include <algorithm>
@@ -55,20 +56,25 @@ void ProxyPool::ReportUnknown(ProxyId id, const char* call) const
                 (id >= 0 && id < IdBound()) ? "already destroyed" : "out of range");
 }
 
-void ProxyPool::TakeBuffer(std::vector<ProxyId>& work)
+void ProxyPool::Buffer(const ProxyId* ids, size_t count)
 {
-    work.clear();
-    for (ProxyId id : m_moveBuffer)
+    ReserveBuffer(count); // may throw: nothing changed yet
+    size_t n = m_moveBuffer.size();
+    m_moveBuffer.resize(n + count); // within the capacity: no allocation
+    // Locals: through the members, the compiler would reload the arrays after every flag store (a char store may
+    // alias anything).
+    uint8_t* const state = m_state.data();
+    ProxyId* const out = m_moveBuffer.data();
+    for (size_t i = 0; i < count; ++i)
     {
-        uint8_t& s = m_state[size_t(id)];
-        s &= uint8_t(~kBuffered);
-        if ((s & kLive) != 0)
-        {
-            s |= kInWork;
-            work.push_back(id);
-        }
+        // Always written, kept by advancing: whether a proxy is already buffered is close to random.
+        const ProxyId id = ids[i];
+        const uint8_t s = state[size_t(id)];
+        state[size_t(id)] = uint8_t(s | kBuffered);
+        out[n] = id;
+        n += (s & kBuffered) == 0 ? 1 : 0;
     }
-    m_moveBuffer.clear();
+    m_moveBuffer.resize(n);
 }
 
 void ProxyPool::LendBuffer(std::vector<ProxyId>& work)
@@ -89,15 +95,18 @@ void ProxyPool::LendBuffer(std::vector<ProxyId>& work)
     work.swap(m_moveBuffer);
 }
 
-void ProxyPool::ReturnWork(std::vector<ProxyId>& work)
+void ProxyPool::ReturnBuffer(std::vector<ProxyId>& work)
 {
-    ReleaseWork(work);
+    for (ProxyId id : work)
+    {
+        m_state[size_t(id)] &= uint8_t(~kInWork);
+    }
     work.clear();
     work.swap(m_moveBuffer);
     work.clear(); // whatever was in the (unused) move buffer storage
 }
 
-void ProxyPool::UnlendWork(std::vector<ProxyId>& work)
+void ProxyPool::RestoreBuffer(std::vector<ProxyId>& work)
 {
     for (ProxyId id : work)
     {
@@ -106,14 +115,6 @@ void ProxyPool::UnlendWork(std::vector<ProxyId>& work)
     // The move buffer holds the empty storage LendBuffer swapped in (nothing can be buffered while work is lent).
     work.swap(m_moveBuffer);
     work.clear();
-}
-
-void ProxyPool::ReleaseWork(const std::vector<ProxyId>& work)
-{
-    for (ProxyId id : work)
-    {
-        m_state[size_t(id)] &= uint8_t(~kInWork);
-    }
 }
 
 void ProxyPool::ShiftOrigin(Vec2 newOrigin)

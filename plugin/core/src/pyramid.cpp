@@ -1,3 +1,5 @@
+// Pyramid: placing proxies in the static quadtree, moving them between cells (one at a time and in batches),
+// rebuilding, occupancy counts and the invariant check.
 #include "quadphase/pyramid.h"
 
 #include <algorithm>
@@ -191,10 +193,9 @@ bool Pyramid::UpdatePlaced(ProxyId id, const Box& box, int level, int32_t cell)
 int64_t Pyramid::UpdateBatch(const std::vector<ProxyId>& ids, const Box* boxes)
 {
     // Each cell change is a chain of dependent loads (the id's location and box, then its old and new cells, then
-    // their entries, then the location of the entry that fills the hole), mostly cache misses: about 270 ns per
-    // change on particles 100k. The ids ahead are prefetched one link further at each distance, so the misses of
-    // several changes overlap; this cut the time of this loop by a third on particles 100k and by a fifth on
-    // rain 64k (docs/design.md, "Grid maintenance"). Prefetches read the current state, which the changes in
+    // their entries, then the location of the entry that fills the hole), mostly cache misses. The ids ahead are
+    // prefetched one link further at each distance, so the misses of several changes overlap (docs/design.md,
+    // "Grid maintenance", has the measurements). Prefetches read the current state, which the changes in
     // between may alter: they are hints, and every change below reads the state afresh. The loop starts
     // kLocation ids early so that every id goes through every stage.
     constexpr int64_t kLocation = 12, kCell = 8, kEntries = 4, kMoved = 2, kRing = 16;

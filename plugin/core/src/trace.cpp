@@ -1,3 +1,4 @@
+// Trace: saving and loading recorded broadphase calls (the binary file format), and counting their UpdatePairs.
 #include "quadphase/trace.h"
 
 #include <cstdio>

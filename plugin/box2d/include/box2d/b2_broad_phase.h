@@ -58,7 +58,7 @@ public:
 
     /// Call MoveProxy as many times as you like, then when you are done
     /// call UpdatePairs to finalized the proxy pairs (for your time step).
-    /// quadphase: O(1), a store: the move is queued, and its fat-AABB test runs (on all threads) in the next
+    /// quadphase: O(1), a store: the move is queued, and its fat-AABB test runs (on one thread) in the next
     /// UpdatePairs, or earlier if something reads a fat AABB first. The outcome is the stock tree's.
     void MoveProxy(int32 proxyId, const b2AABB& aabb, const b2Vec2& displacement);
 

@@ -7,10 +7,15 @@
 
 #include "box2d/b2_collision.h"
 #include "box2d/b2_dynamic_tree.h"
+#include "quadphase/error.h"
 #include "quadphase/quadtree_broad_phase.h"
 
 namespace quadphase
 {
+
+/// The code of every mismatch validation reports through quadphase's error handler (quadphase/error.h); the
+/// message starts with "validation mismatch: " and names the call and the proxies.
+constexpr ErrorCode kValidationMismatch = ErrorCode::FirstAdapterCode;
 
 /// What validation found so far.
 struct ValidationReport

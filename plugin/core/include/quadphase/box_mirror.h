@@ -19,9 +19,9 @@ namespace quadphase
 /// adapter points that array at records kept current through this mirror, so those reads stay valid.
 ///
 /// Contract: ids at or above `capacity` are skipped (the owner grows the records, then sets the mirror again).
-/// Written by the calls that change fat boxes (queued moves applied, possibly on several threads, each id by one
-/// thread; MoveProxy; ShiftOrigin), never by CreateProxy, whose record the owner writes. Until a queued move is
-/// applied, its proxy's record holds the previous fat box, like GetPool().
+/// Written, on the thread of the call, by the calls that change fat boxes (queued moves applied; MoveProxy;
+/// ShiftOrigin), never by CreateProxy, whose record the owner writes. Until a queued move is applied, its proxy's
+/// record holds the previous fat box, like GetPool().
 struct BoxMirror
 {
     unsigned char* base = nullptr;

@@ -3,8 +3,7 @@
 //
 // Why: the candidate test of a pair query (Overlaps) ran as four compares with short-circuit branches whose outcome
 // is close to random, and the branch-free fat-box test (RefattenNoBranch) spent half its instructions moving floats
-// between vector and integer registers for its bit selects (rain 16k, falling: together about 40% of the replay's
-// instructions).
+// between vector and integer registers for its bit selects (docs/design.md, "Fat boxes").
 #pragma once
 
 #include <cstdint>

@@ -92,9 +92,8 @@ public:
     /// True when the array holds much more than `stored` entries need (blocks of cells that emptied, free
     /// blocks): time for Compact(). Compaction stays amortised O(1) per block allocation with any factor
     /// above the blocks' own rounding (about 4/3). Small worlds compact at 1.5 times what they need, larger
-    /// ones at 1.75: a slack of 2x plus 4096 made the entries 53 bytes per proxy on particles 2000 (more than
-    /// the whole stock tree per proxy). Since Compact keeps the array's capacity, the factor also bounds what
-    /// the array holds for good: at 2x, rain 16k's replay heap came within 1% of stock's per proxy.
+    /// ones at 1.75. Since Compact keeps the array's capacity, the factor also bounds what the array holds for
+    /// good (docs/design.md, "Memory").
     bool Wasteful(int64_t stored) const
     {
         const size_t need = size_t(stored);

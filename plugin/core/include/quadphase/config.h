@@ -30,8 +30,8 @@ struct Config
     bool autoBounds = true;
     Box bounds{-100.0f, -100.0f, 100.0f, 100.0f};
 
-    /// Target ratio of the finest cell's side to the median fat-box extent, used by the automatic depth.
-    /// Measured on this machine: 2-3 perform alike, 1.5 is worse.
+    /// Target ratio of the finest cell's side to the median fat-box extent, used by the automatic depth
+    /// (docs/design.md, "Automatic depth and bounds").
     float cellToProxyRatio = 2.0f;
 
     /// Threads for pair generation. 0: up to OpenMP's own setting (OMP_NUM_THREADS, else the

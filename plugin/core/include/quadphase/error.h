@@ -4,13 +4,15 @@
 namespace quadphase
 {
 
-/// What went wrong.
+/// What went wrong. The core reports the first three. An engine adapter defines its own codes, from
+/// FirstAdapterCode up, beside the code that reports them (the Box2D adapter: kValidationMismatch in
+/// quadphase/shadow_validator.h); they reach the same handler.
 enum class ErrorCode
 {
-    NonFiniteBox,       ///< a box with NaN or infinite coordinates was given to CreateProxy or MoveProxy
-    InvertedBox,        ///< a box with min > max on an axis was given to CreateProxy or MoveProxy
-    UnknownProxy,       ///< an id that is out of range or already destroyed was given
-    ValidationMismatch, ///< validation mode found the quadtree and the shadow tree disagree
+    NonFiniteBox,          ///< a box with NaN or infinite coordinates was given to CreateProxy or MoveProxy
+    InvertedBox,           ///< a box with min > max on an axis was given to CreateProxy or MoveProxy
+    UnknownProxy,          ///< an id that is out of range or already destroyed was given
+    FirstAdapterCode = 64, ///< the first code an engine adapter may define
 };
 
 /// Called with a code and a human-readable message that names the call and the offending values.
@@ -37,7 +39,7 @@ void ReportError(ErrorCode code, const char* format, ...)
 #endif
     ;
 
-/// Human-readable name of a code.
+/// Human-readable name of a code ("engine adapter error" for every adapter code: its message says more).
 const char* ErrorCodeName(ErrorCode code);
 
 } // namespace quadphase

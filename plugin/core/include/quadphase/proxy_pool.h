@@ -14,8 +14,11 @@ namespace quadphase
 using ProxyId = int32_t;
 
 /// Owns the proxies' fat boxes and user data, hands out ids (last freed, first reused, like b2DynamicTree's node
-/// pool) and keeps the move buffer: the proxies created, moved or touched since the last TakeBuffer, in call order,
+/// pool) and keeps the move buffer: the proxies created, moved or touched since the last LendBuffer, in call order,
 /// each at most once.
+///
+/// The move buffer, one protocol: Buffer adds proxies (one, or many in order); FindPairs borrows the buffer with
+/// LendBuffer and hands it back, emptied, with ReturnBuffer, or unchanged with RestoreBuffer when it failed.
 ///
 /// Invariants (checked by Validate):
 /// - an id is live exactly when it is not on the free list;
@@ -27,7 +30,7 @@ public:
     /// Returns a new live id holding `fat` and `userData`; the proxy is not buffered.
     ProxyId Allocate(const Box& fat, void* userData);
 
-    /// Frees a live id. Its move-buffer entry, if any, is dropped lazily by TakeBuffer. Allocates nothing after
+    /// Frees a live id. Its move-buffer entry, if any, is dropped lazily by LendBuffer. Allocates nothing after
     /// ReserveFree().
     void Free(ProxyId id);
 
@@ -67,24 +70,18 @@ public:
             // may throw: nothing changed yet
             m_moveBuffer.reserve(std::max<size_t>(16, 2 * m_moveBuffer.capacity()));
         }
-        if (MarkBuffered(id))
+        if (TestAndSet(id, kBuffered))
         {
             m_moveBuffer.push_back(id);
         }
     }
 
-    /// Buffer in two steps, for loops that run on several threads over distinct ids: MarkBuffered flags a live
-    /// proxy and returns true when it was not flagged yet; the caller must then append exactly those ids, in the
-    /// order it wants them, with AppendBuffered (on one thread) before anything else reads the pool. Between the
-    /// two the invariant "flagged exactly when in the buffer" does not hold.
-    bool MarkBuffered(ProxyId id) { return TestAndSet(id, kBuffered); }
-    void AppendBuffered(const std::vector<ProxyId>& ids)
-    {
-        m_moveBuffer.insert(m_moveBuffer.end(), ids.begin(), ids.end());
-    }
+    /// Buffer(id) for each of `count` live proxies, in order, without a branch on whether each is already there.
+    /// Allocates nothing after ReserveBuffer(count).
+    void Buffer(const ProxyId* ids, size_t count);
 
-    /// Makes room for `more` move-buffer entries, so that the next AppendBuffered calls adding up to that many do
-    /// not allocate (they run after a parallel region whose work must not be half-recorded).
+    /// Makes room for `more` move-buffer entries, so that the next Buffer calls adding up to that many do not
+    /// allocate (for callers that must reserve before they change anything).
     void ReserveBuffer(size_t more)
     {
         if (m_moveBuffer.capacity() < m_moveBuffer.size() + more)
@@ -93,21 +90,16 @@ public:
         }
     }
 
-    /// Moves the live buffered proxies, in buffer order, into `work` (cleared first) and empties the buffer.
-    /// Each proxy in `work` is flagged "in work" until ReleaseWork; see InWork.
-    void TakeBuffer(std::vector<ProxyId>& work);
-
-    /// Clears the "in work" flags set by TakeBuffer.
-    void ReleaseWork(const std::vector<ProxyId>& work);
-
-    /// TakeBuffer without a second array: `work` (empty) receives the move buffer's own storage, filtered in place.
-    /// No proxy may be buffered until ReturnWork(work), which clears the "in work" flags and gives the storage back
-    /// as the empty move buffer.
+    /// Lends the move buffer to `work` (its previous content is dropped): the live buffered proxies, in buffer
+    /// order, in the buffer's own storage (no copy). Each is flagged "in work" (see InWork). Until ReturnBuffer or
+    /// RestoreBuffer no proxy may be buffered.
     void LendBuffer(std::vector<ProxyId>& work);
-    void ReturnWork(std::vector<ProxyId>& work);
-    /// Undoes LendBuffer after a failure (std::bad_alloc in FindPairs): the proxies of `work` are the move buffer
+    /// Ends the loan: clears the "in work" flags and gives the storage back as the empty move buffer; `work` is
+    /// left empty.
+    void ReturnBuffer(std::vector<ProxyId>& work);
+    /// Ends the loan after a failure (std::bad_alloc in FindPairs): the proxies of `work` are the move buffer
     /// again, in the same order, so the next FindPairs searches their pairs. Allocates nothing.
-    void UnlendWork(std::vector<ProxyId>& work);
+    void RestoreBuffer(std::vector<ProxyId>& work);
 
     /// Flags a proxy whose fat box changed since its cell entry was written ("stale"). Returns true when it was not
     /// flagged yet, i.e. when the caller should add it to its list of stale proxies. Like the buffered flag, the
@@ -132,14 +124,13 @@ public:
         return id >= 0 && id < ProxyId(m_state.size()) && (m_state[size_t(id)] & (kLive | kPending)) == kLive;
     }
 
-    /// The fat boxes and state flags for loops that run on several threads over distinct ids (valid until the
-    /// next Allocate). Flags: see MarkPending, MarkStale.
+    /// The fat boxes, for loops over many ids that keep the array in a local (valid until the next Allocate).
     Box* MutableFatData() { return m_fat.data(); }
     /// The flag bytes, for loops that clear the queued-move flag of many distinct ids (ClearPending, unrolled by
     /// the caller: state[id] &= kClearPendingMask).
     uint8_t* MutableStateData() { return m_state.data(); }
 
-    /// True while `id` is in the work list taken by TakeBuffer. A pair of two such proxies is reported by the
+    /// True while `id` is in the work list lent by LendBuffer. A pair of two such proxies is reported by the
     /// smaller id only, so that every pair is reported once.
     bool InWork(ProxyId id) const { return (m_state[size_t(id)] & kInWork) != 0; }
 

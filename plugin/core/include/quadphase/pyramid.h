@@ -73,11 +73,10 @@ public:
     void AddOutsideDelta(int32_t delta) { m_outsideCount += delta; }
 
     /// Update for each of the (distinct, stored) `ids`, with box `boxes[id]`, in `ids` order; then compacts the
-    /// cell store when it has grown wasteful. Returns how many changed cell. One thread: on a 2-core machine a
-    /// parallel version (place over ids, then leave and join cells, each cell owned by one thread) ran at
-    /// 0.62-0.93x this loop's speed from 2k to 32k cell changes, because each id's location and cells passed
-    /// between the cores' caches from phase to phase (docs/design.md, "Grid maintenance"). The loop prefetches the
-    /// data of the ids ahead (docs/design.md): the misses of several changes overlap.
+    /// cell store when it has grown wasteful. Returns how many changed cell. One thread: a parallel version (place
+    /// over ids, then leave and join cells, each cell owned by one thread) was slower, because each id's location
+    /// and cells passed between the cores' caches from phase to phase (docs/design.md, "Grid maintenance"). The
+    /// loop prefetches the data of the ids ahead: the misses of several changes overlap.
     int64_t UpdateBatch(const std::vector<ProxyId>& ids, const Box* boxes);
 
     /// Calls visit(const Entry&) for every stored entry that may overlap `query` (a superset of the overlapping
@@ -138,8 +137,7 @@ public:
     int32_t LevelCount(int level) const { return int32_t(m_levelProxies[size_t(level)].size()); }
 
     /// Bit l set when level l stores at least one proxy. Visit walks only these levels: most scenes fill two or
-    /// three of a pyramid's 8-12 levels (rain 64k: level 8 and two static boxes higher up), and testing each empty
-    /// one was a tenth of a pair query's instructions.
+    /// three of a pyramid's 8-12 levels (docs/design.md, "Pair generation").
     uint32_t OccupiedLevels() const { return m_occupiedLevels; }
 
     /// Number of stored ids whose box is not inside the bounds.
@@ -237,8 +235,8 @@ private:
 template <typename Visitor>
 void Pyramid::Visit(const Box& query, Visitor&& visit) const
 {
-    // The query's deepest-level coordinates once; each level shifts them (every query of FindPairs comes here, and
-    // recomputing them per level was a quarter of a query's instructions on rain 16k).
+    // The query's deepest-level coordinates once; each level shifts them (every query of FindPairs comes here;
+    // docs/design.md, "Pair generation").
     const LeafRange range{CoordX(query.minX), CoordY(query.minY), CoordX(query.maxX), CoordY(query.maxY)};
     for (uint32_t levels = m_occupiedLevels; levels != 0; levels &= levels - 1)
     {

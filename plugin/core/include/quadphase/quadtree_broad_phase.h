@@ -173,9 +173,9 @@ private:
     // dozen applies per step for 100k moving proxies (each has a fixed cost of a few hundred ns), and a bound on
     // memory that does not grow with the world.
     static constexpr size_t kQueueChunk = 8192;
-    // The queue's capacity: an eighth of the live proxies, as a power of two from 64 to kQueueChunk. A queue sized
-    // to every moving proxy cost 28 bytes per proxy (particles 2000: a sixth of the broadphase's memory), and
-    // smaller chunks cost only their fixed overhead (a few hundred ns each).
+    // The queue's capacity: an eighth of the live proxies, as a power of two from 64 to kQueueChunk: at most 3.5
+    // bytes per proxy (a queue sized to every moving proxy costs 28), and smaller chunks cost only their fixed
+    // overhead (a few hundred ns each). See docs/design.md, "Memory".
     size_t QueueLimit() const
     {
         size_t limit = 64;
@@ -223,6 +223,7 @@ private:
     void UpdateStaleEntries(std::chrono::steady_clock::time_point* now = nullptr); // `now` as in ApplyQueued
     int Threads() const;
     void FindPairsParallel(std::vector<Pair>& out, int threads);
+    class RayCaster; // one RayCast call (quadtree_queries.cpp)
 
     FatPolicy m_policy;
     Config m_config;
@@ -237,8 +238,8 @@ private:
     // out-of-line path). One comparison on the hot path instead of three.
     size_t m_fastRoom = 0;
     void UpdateFastRoom() { m_fastRoom = m_timing ? 0 : m_queued.size(); }
-    // ApplyQueued's scratch: the ids it adds to the stale list and to the move buffer, in queue order (written
-    // without a branch on whether an id is added, then appended).
+    // ApplyQueued's scratch, in queue order: the ids it adds to the stale list, and the ids with a new fat box (for
+    // the move buffer).
     struct ApplyLists
     {
         std::vector<ProxyId> stale;

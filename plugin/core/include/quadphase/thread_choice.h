@@ -12,10 +12,10 @@ namespace quadphase
 /// What a mode costs is measured over a *window*: the broadphase work since the previous eligible call ended (the
 /// queued moves applied in between) plus the call itself. Why the window and not the call alone: a parallel call
 /// leaves the data its second thread read (cell entries, fat boxes, flags) in that thread's cache, and the caller's
-/// thread pays to take it back when it next writes it, while applying the next step's moves. On a machine where a
-/// cache line takes about 240 ns from one core to the other, that made parallel calls that were faster by
-/// themselves slower over the step (particles 20k in Box2D: 2 threads 1.98 ms of broadphase per step against 1.75
-/// at 1), and a choice that timed the calls alone kept them parallel. A window is credited to its call's mode only
+/// thread pays to take it back when it next writes it, while applying the next step's moves. Where a cache line
+/// takes long to pass from one core to the other, parallel calls that are faster by themselves can be slower over
+/// the step, and a choice that timed the calls alone would keep them parallel (docs/design.md, "Parallel pair
+/// generation"). A window is credited to its call's mode only
 /// when the previous eligible call ran in the same mode, so that each mode is charged its own aftermath.
 ///
 /// Schedule: the preferred mode runs; every ProbeEvery() eligible calls the other one runs kProbeCalls times in a
@@ -23,8 +23,7 @@ namespace quadphase
 /// preference unchanged doubles the interval, up to 1024 calls; one that changes it resets the interval to 32.
 /// Serial is measured first, then parallel, and parallel must be faster by a margin (kParallelMargin): a parallel
 /// region whose second thread waits for a core that another program holds costs milliseconds where serial costs
-/// tens of microseconds, and starting with parallel calls made rain 2000 at 2 threads 20x slower than at 1 on a
-/// machine whose other core was busy.
+/// tens of microseconds, so a wrong start on a busy machine is expensive.
 ///
 /// Use: Next() before each eligible call, Record() after it, in the same order. Not thread-safe (FindPairs is not).
 class ThreadChoice

@@ -1,0 +1,265 @@
+// QuadtreeBroadPhase's moves: MoveProxy, the move queue (QueueMove's slow path and its apply) and the stale entries
+// that both leave for the next FindPairs or query.
+#include "quadphase/quadtree_broad_phase.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+
+#include "quadphase/box_simd.h"
+#include "quadtree_clock.h"
+
+namespace quadphase
+{
+using detail::Clock;
+using detail::SecondsSince;
+
+namespace
+{
+
+// Grows a vector's capacity to at least n, geometrically (a plain reserve(n) reallocates to exactly n each time).
+template <typename T>
+void ReserveAtLeast(std::vector<T>& v, size_t n)
+{
+    if (v.capacity() < n)
+    {
+        v.reserve(std::max(n, 2 * v.capacity()));
+    }
+}
+
+} // namespace
+
+bool QuadtreeBroadPhase::MoveProxy(ProxyId id, const Box& tight, Vec2 displacement)
+{
+    if (!m_pool.CheckLive(id, "MoveProxy"))
+    {
+        return false;
+    }
+    ApplyQueuedIfAny(); // moves take effect in call order
+    // Checked before Refatten: a bad box may lie inside the stored fat box, which is then kept, and must be
+    // reported all the same.
+    CheckBox(tight, "MoveProxy", id);
+    const Clock::time_point start = m_timing ? Clock::now() : Clock::time_point{};
+    Box& fat = m_pool.Fat(id);
+    if (!Refatten(m_policy, fat, tight, displacement))
+    {
+        return false;
+    }
+    m_mirror.Write(id, fat);
+    ++m_mutations;
+    if (m_pool.MarkStale(id))
+    {
+        m_stale.push_back(id);
+        NoteStale();
+    }
+    m_pool.Buffer(id);
+    if (m_timing)
+    {
+        m_counters.updateSeconds += SecondsSince(start);
+    }
+    return true;
+}
+
+void QuadtreeBroadPhase::QueueMoveSlow(ProxyId id, const Box& tight, Vec2 displacement)
+{
+    if (!m_pool.CheckLive(id, "MoveProxy"))
+    {
+        return;
+    }
+    CheckBox(tight, "MoveProxy", id);
+    const Clock::time_point start = m_timing ? Clock::now() : Clock::time_point{};
+    if (!m_pool.MarkPending(id))
+    {
+        // Moved twice before the queue was applied: the second move must see the first one's fat box.
+        ApplyQueued();
+        m_pool.MarkPending(id);
+    }
+    if (m_queuedCount == m_queued.size())
+    {
+        // Full. Grows by doubling up to QueueLimit(), so a small world holds a small queue; at the limit, the
+        // queue is applied and refilled.
+        const size_t limit = QueueLimit();
+        if (m_queued.size() < limit)
+        {
+            m_queued.resize(std::min(limit, std::max<size_t>(64, 2 * m_queued.size())));
+            UpdateFastRoom();
+        }
+        else
+        {
+            ApplyQueued();
+        }
+    }
+    m_queued[m_queuedCount++] = QueuedMove{tight, displacement, id};
+    m_hasQueued.store(true, std::memory_order_release);
+    if (m_timing)
+    {
+        m_counters.updateSeconds += SecondsSince(start);
+    }
+}
+
+void QuadtreeBroadPhase::ApplyQueuedLocked() const
+{
+    std::lock_guard<std::mutex> lock(m_queueMutex);
+    if (m_hasQueued.load(std::memory_order_relaxed))
+    {
+        // Logically const: the fat boxes a caller observes are already defined by the calls made; applying the
+        // queue only brings the stored ones up to date.
+        const_cast<QuadtreeBroadPhase*>(this)->ApplyQueued();
+    }
+}
+
+void QuadtreeBroadPhase::ApplyForReadLocked() const
+{
+    std::lock_guard<std::mutex> lock(m_queueMutex);
+    // Logically const, as ApplyQueuedLocked: the entries only catch up with the calls already made. Safe beside
+    // concurrent const calls: they cannot be reading the pyramid now, since every one of them saw the same flags
+    // (only non-const calls set them) and waits on this lock before reading.
+    QuadtreeBroadPhase* self = const_cast<QuadtreeBroadPhase*>(this);
+    if (m_hasQueued.load(std::memory_order_relaxed))
+    {
+        self->ApplyQueued();
+    }
+    if (m_hasStale.load(std::memory_order_relaxed))
+    {
+        self->UpdateStaleEntries();
+    }
+}
+
+void QuadtreeBroadPhase::ApplyQueued(Clock::time_point* now)
+{
+    const int64_t count = int64_t(m_queuedCount);
+    if (count == 0)
+    {
+        return;
+    }
+    // A caller that already read the clock hands its reading over and gets this call's end back: on a step where
+    // almost nothing moves, clock reads are a noticeable part of it.
+    const Clock::time_point start = now != nullptr ? *now : Clock::now();
+    // One thread, the caller's: see docs/design.md ("Grid maintenance"). The moves were queued on this thread, so
+    // the queue, the pending flags and (through the last queries) most fat boxes are in its cache; a second core
+    // would have to fetch them, and the next QueueMove calls to fetch them back.
+    // Everything this call allocates is reserved here, before any change: std::bad_alloc leaves the queue as it was.
+    ReserveAtLeast(m_applyLists.stale, size_t(count));
+    ReserveAtLeast(m_applyLists.buffered, size_t(count));
+    ReserveAtLeast(m_stale, m_stale.size() + size_t(count));
+    m_pool.ReserveBuffer(size_t(count));
+    ++m_mutations;
+    // Two passes over the queue:
+    // 1. the fat-box tests, without a branch on the outcome (RefattenSimd, and an append that always writes and
+    //    advances by the outcome): whether a body keeps its fat box is close to random, and the mispredictions
+    //    cost more than the test;
+    // 2. each new fat box is written into the proxy's cell entry when it stays in its cell (most do: a fat box is
+    //    smaller than a cell); the others are flagged and listed stale and wait for UpdateStaleEntries. Every
+    //    proxy with a new fat box is listed for the move buffer.
+    // Everything the loops read in locals: through members (or the pool) the compiler reloads the policy, the
+    // arrays and the constants built from them after every flag store, since a char store may alias anything.
+    const QueuedMove* const moves = m_queued.data();
+    Box* const boxes = m_pool.MutableFatData();
+    uint8_t* const state = m_pool.MutableStateData();
+    const FatPolicy policy = m_policy;
+    const BoxMirror mirror = m_mirror;
+    std::vector<ProxyId>& buffered = m_applyLists.buffered;
+    std::vector<ProxyId>& stale = m_applyLists.stale;
+    buffered.resize(size_t(count)); // within the capacity reserved above: no allocation here
+    int32_t* const out = buffered.data();
+    size_t n = 0;
+    for (int64_t i = 0; i < count; ++i)
+    {
+        const QueuedMove& move = moves[i];
+        state[size_t(move.id)] &= ProxyPool::kClearPendingMask;
+        out[n] = int32_t(i);
+        n += RefattenSimd(policy, boxes[move.id], move.tight, move.displacement) ? 1 : 0;
+    }
+    stale.resize(n);
+    int32_t outsideDelta = 0;
+    size_t ns = 0;
+    for (size_t k = 0; k < n; ++k)
+    {
+        const ProxyId id = moves[out[k]].id; // the queue index is replaced by the id below
+        if (mirror.Enabled())
+        {
+            mirror.Write(id, boxes[id]);
+        }
+        if (!m_pyramid.RewriteInPlace(id, boxes[id], outsideDelta) && m_pool.MarkStale(id))
+        {
+            stale[ns++] = id;
+        }
+        out[k] = id;
+    }
+    stale.resize(ns);
+    m_pyramid.AddOutsideDelta(outsideDelta);
+    // In queue order, so the stale list and the move buffer are the ones MoveProxy calls would have built (less
+    // the proxies already re-placed in their cell).
+    m_stale.insert(m_stale.end(), stale.begin(), stale.end());
+    m_pool.Buffer(out, n);
+    stale.clear();
+    buffered.clear();
+    m_queuedCount = 0;
+    m_hasQueued.store(false, std::memory_order_release);
+    if (m_queued.size() > 2 * QueueLimit())
+    {
+        // The world shrank: so does the queue (and the lists sized from it).
+        std::vector<QueuedMove>(QueueLimit()).swap(m_queued);
+        UpdateFastRoom();
+        m_applyLists = ApplyLists{};
+    }
+    NoteStale();
+    const Clock::time_point end = Clock::now();
+    const double seconds = std::chrono::duration<double>(end - start).count();
+    m_counters.updateSeconds += seconds;
+    m_aftermathSeconds += seconds;
+    if (now != nullptr)
+    {
+        *now = end;
+    }
+}
+
+void QuadtreeBroadPhase::TouchProxy(ProxyId id)
+{
+    if (m_pool.CheckLive(id, "TouchProxy"))
+    {
+        ApplyQueuedIfAny(); // keeps the move buffer in call order
+        m_pool.Buffer(id);
+    }
+}
+
+void QuadtreeBroadPhase::UpdateStaleEntries(Clock::time_point* now)
+{
+    if (m_stale.empty())
+    {
+        return;
+    }
+    const Clock::time_point start = now != nullptr ? *now : Clock::now();
+    ++m_mutations;
+    // Filtered in place (no second array): the live ones are handed to the pyramid. They stay flagged until their
+    // entries are written, so that std::bad_alloc inside UpdateBatch leaves every one listed and flagged (each
+    // change is all or nothing, and the next call writes the rest).
+    size_t kept = 0;
+    for (ProxyId id : m_stale)
+    {
+        if (m_pool.IsLive(id))
+        {
+            m_stale[kept++] = id;
+        }
+        else
+        {
+            m_pool.ClearStale(id);
+        }
+    }
+    m_stale.resize(kept);
+    m_counters.reinserts += m_pyramid.UpdateBatch(m_stale, m_pool.FatData()); // one thread: see UpdateBatch
+    for (ProxyId id : m_stale)
+    {
+        m_pool.ClearStale(id);
+    }
+    m_stale.clear();
+    NoteStale();
+    const Clock::time_point end = Clock::now();
+    m_counters.updateSeconds += std::chrono::duration<double>(end - start).count();
+    if (now != nullptr)
+    {
+        *now = end;
+    }
+}
+
+} // namespace quadphase

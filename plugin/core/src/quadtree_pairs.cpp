@@ -1,0 +1,193 @@
+// QuadtreeBroadPhase::FindPairs: one query per buffered proxy, serial or in fixed blocks on OpenMP threads, with the
+// same pairs in the same order either way.
+#include "quadphase/quadtree_broad_phase.h"
+
+#include <algorithm>
+#include <atomic>
+#include <exception>
+
+#include "quadphase/box_simd.h"
+#include "quadtree_clock.h"
+
+#include <omp.h>
+
+namespace quadphase
+{
+using detail::Clock;
+using detail::SecondsSince;
+
+void QuadtreeBroadPhase::QueryPairsOf(ProxyId q, std::vector<Pair>& out) const
+{
+    const Box qb = m_pool.Fat(q);
+    const PreparedBox prepared = Prepare(qb);
+    m_pyramid.Visit(qb, [&](const Entry& e) {
+        if (OverlapsPrepared(e.box, prepared) && e.id != q)
+        {
+            // A pair of two buffered proxies is found from both sides; keep it from the smaller id only.
+            if (!(e.id > q && m_pool.InWork(e.id)))
+            {
+                out.push_back(e.id < q ? Pair{e.id, q} : Pair{q, e.id});
+            }
+        }
+        return true;
+    });
+}
+
+void QuadtreeBroadPhase::FindPairs(std::vector<Pair>& out)
+{
+    const Clock::time_point start = Clock::now();
+    const int64_t work = int64_t(m_queuedCount + m_stale.size()) + m_pool.BufferedCount();
+    // Below the threshold no parallel region can open (neither the queue's apply nor the search), so OpenMP is
+    // not asked (omp_get_max_threads is a call into libgomp; most of Box2D's calls, after time-of-impact events
+    // and on quiet scenes, are this small).
+    int threads = work >= int64_t(m_config.parallelThreshold) ? Threads() : 1;
+    const bool eligible = m_config.threads == 0 && threads > 1 && work >= int64_t(m_config.parallelThreshold);
+    // The queued moves applied since the last eligible call: the aftermath of that call's mode (see ThreadChoice).
+    const double aftermath = m_aftermathSeconds;
+    if (eligible)
+    {
+        // Which mode to run: the faster one, except on a probe of the other (see ThreadChoice).
+        const bool parallel = m_choice.Next();
+        if (!parallel)
+        {
+            threads = 1;
+            m_counters.serialByChoice += m_choice.Parallel() ? 0 : 1;
+        }
+    }
+    Clock::time_point now = start;
+    ApplyQueued(&now);
+    // Entries first, then the re-tune test: the test reads the outside count, which is complete only once every
+    // entry is up to date (ApplyQueued already updates the entries that stay in their cell). Queued and immediate
+    // moves then re-tune at the same call. A re-tune rebuilds from the fat boxes, so the update work is wasted
+    // then; re-tunes are rare.
+    UpdateStaleEntries(&now);
+    if (NeedsRetune())
+    {
+        Retune();
+    }
+    m_pool.LendBuffer(m_work);
+    const size_t before = out.size();
+    try
+    {
+        FindPairsOfWork(out, threads);
+    }
+    catch (...)
+    {
+        // std::bad_alloc (the only exception the search can throw): nothing reported, nothing lost. The proxies
+        // are buffered again, so the next call searches their pairs.
+        out.resize(before);
+        m_pool.RestoreBuffer(m_work);
+        throw;
+    }
+    const int64_t queried = int64_t(m_work.size());
+    m_pool.ReturnBuffer(m_work);
+
+    const int64_t found = int64_t(out.size() - before);
+    m_counters.updatePairsCalls += 1;
+    m_counters.pairsReported += found;
+    m_counters.lastPairs = found;
+    m_counters.proxiesQueried += queried;
+    const double seconds = SecondsSince(start);
+    m_counters.pairSeconds += seconds;
+    if (eligible)
+    {
+        m_choice.Record(threads > 1, aftermath + seconds, double(work));
+        m_aftermathSeconds = 0.0; // this call's own apply is in `seconds`
+    }
+}
+
+void QuadtreeBroadPhase::FindPairsOfWork(std::vector<Pair>& out, int threads)
+{
+    if (threads > 1 && int64_t(m_work.size()) >= int64_t(m_config.parallelThreshold))
+    {
+        FindPairsParallel(out, threads);
+        m_counters.parallelCalls += 1;
+    }
+    else
+    {
+        for (ProxyId q : m_work)
+        {
+            QueryPairsOf(q, out);
+        }
+    }
+}
+
+int QuadtreeBroadPhase::Threads() const
+{
+    return m_config.threads > 0 ? m_config.threads : omp_get_max_threads();
+}
+
+// The buffered proxies are cut into fixed blocks of kBlock queries, whatever the thread count. Each block writes
+// only its own vector, with no lock; the vectors are then joined in block order. The output is therefore the
+// serial loop's output, pair for pair and in the same order, at any thread count and under any schedule. During
+// the parallel loop the pyramid and the pool are only read.
+void QuadtreeBroadPhase::FindPairsParallel(std::vector<Pair>& out, int threads)
+{
+    constexpr int64_t kBlock = 64;
+    const int64_t count = int64_t(m_work.size());
+    const int64_t blocks = (count + kBlock - 1) / kBlock;
+    if (int64_t(m_blockPairs.size()) < blocks)
+    {
+        m_blockPairs.resize(size_t(blocks));
+    }
+
+    omp_sched_t previousKind;
+    int previousChunk;
+    omp_get_schedule(&previousKind, &previousChunk);
+    static constexpr omp_sched_t kKinds[] = {omp_sched_static, omp_sched_dynamic, omp_sched_guided,
+                                             omp_sched_auto};
+    omp_set_schedule(kKinds[int(m_config.schedule)], m_config.chunk);
+
+    // A block's pair list may grow, and an exception must not leave the region (that ends the program): the first
+    // one is kept and thrown again after the region, on the caller's thread.
+    std::exception_ptr error;
+    std::atomic<bool> failed{false};
+#pragma omp parallel for schedule(runtime) num_threads(threads)
+    for (int64_t b = 0; b < blocks; ++b)
+    {
+        if (failed.load(std::memory_order_relaxed))
+        {
+            continue;
+        }
+        try
+        {
+            std::vector<Pair>& pairs = m_blockPairs[size_t(b)];
+            pairs.clear();
+            const int64_t end = std::min(count, (b + 1) * kBlock);
+            for (int64_t i = b * kBlock; i < end; ++i)
+            {
+                QueryPairsOf(m_work[size_t(i)], pairs);
+            }
+        }
+        catch (...)
+        {
+#pragma omp critical(quadphase_find_pairs_error)
+            {
+                if (!error)
+                {
+                    error = std::current_exception();
+                }
+            }
+            failed.store(true, std::memory_order_relaxed);
+        }
+    }
+
+    omp_set_schedule(previousKind, previousChunk); // the schedule ICV belongs to the caller's thread
+    if (error)
+    {
+        std::rethrow_exception(error);
+    }
+    size_t total = out.size();
+    for (int64_t b = 0; b < blocks; ++b)
+    {
+        total += m_blockPairs[size_t(b)].size();
+    }
+    out.reserve(total);
+    for (int64_t b = 0; b < blocks; ++b)
+    {
+        const std::vector<Pair>& pairs = m_blockPairs[size_t(b)];
+        out.insert(out.end(), pairs.begin(), pairs.end());
+    }
+}
+
+} // namespace quadphase
