@@ -1,7 +1,6 @@
-// The command-line pieces every scene program shares (quadphase-demo and its workers, quadphase-scene and its
-// workers): splitting "--name value" / "--name=value", integer values with their range, and the scene options
-// --scene, --size, --steps and --seed with the check of --size against the scene's range. Header-only, so a
-// program that does not parse options (the tests, the benchmarks) compiles nothing of it.
+// The command-line pieces of quadphase-scene and its workers: splitting "--name value" / "--name=value", integer
+// values with their range, and the scene options --scene, --size, --steps and --seed with the check of --size
+// against the scene's range.
 #pragma once
 
 #include <charconv>
