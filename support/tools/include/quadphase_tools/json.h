@@ -1,11 +1,12 @@
 // JSON lines of the tools, written with nlohmann-json: one flat object per measurement, keys in the order
-// written, numbers to 9 significant digits (null when not finite).
+// written, numbers to 9 significant digits (whole ones as integers; null when not finite).
 #pragma once
 
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <string>
 
@@ -51,6 +52,11 @@ private:
         }
         char buf[64];
         std::snprintf(buf, sizeof(buf), "%.9g", value);
+        // A whole number stays one ("64", not "64.0"): readers keep the type they always got.
+        if (std::strpbrk(buf, ".eE") == nullptr)
+        {
+            return std::strtoll(buf, nullptr, 10);
+        }
         return std::strtod(buf, nullptr);
     }
     template <typename T>
