@@ -156,7 +156,8 @@ def scaled(size, args, lo=1):
 # ----------------------------------------------------------------------------------------------------------------
 def step_units(runner, args):
     units = []
-    for scene, lo, hi, default in (l.split() for l in runner.run("qp-step-stock", "--list")[1].splitlines()):
+    scene_list = runner.run("qp-step-stock", "--list")[1].splitlines()
+    for scene, lo, hi, default in (line.split("\t")[0].split() for line in scene_list):
         lo, hi, default = int(lo), int(hi), int(default)
         for size in STEP_SIZES[args.profile].get(scene) or [default] + ([4 * default] if args.full else []):
             units += [("step", scene, min(hi, max(lo, scaled(size, args, lo))), b, t) for b, t in STEP_ENGINES]

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Side-by-side demo: install dependencies (scripts/install-deps.sh), configure + build (Release) the demo and
-# its two worker programs, then run build/examples/demo/quadphase-demo with the given arguments.
+# Side-by-side demo: install dependencies (scripts/install-deps.sh), configure + build (Release) the benchmark's
+# step tools (qp-step-stock, qp-step-quadtree), then run examples/demo/demo.py with the given arguments.
 #
 #   scripts/demo.sh                                  # rain, 16000 bodies, 300 steps
 #   scripts/demo.sh --scene particles --size 20000 --repeat 3
@@ -15,12 +15,13 @@
 source "$(dirname "${BASH_SOURCE[0]}")/lib/build.sh"
 qp_deps scripts/install-deps.sh --for demo
 build_dir=${BUILD_DIR:-build}
-# Configure (cheap when already configured; keeps the build Release with the examples on).
-qp_configure "$build_dir" -DCMAKE_BUILD_TYPE=Release -DQUADPHASE_BUILD_EXAMPLES=ON
-qp_build "$build_dir" quadphase-demo-stock quadphase-demo-quadtree quadphase-demo
-demo=$(qp_exe "$build_dir/examples/demo/quadphase-demo")
+# Configure (cheap when already configured; keeps the build Release with the benchmarks on).
+qp_configure "$build_dir" -DCMAKE_BUILD_TYPE=Release -DQUADPHASE_BUILD_BENCH=ON
+qp_build "$build_dir" qp-step-stock qp-step-quadtree
 status=0
-"$demo" "$@" || status=$?
+step=$(qp_exe "$build_dir/bench/qp-step-stock")
+python3 "$(dirname "${BASH_SOURCE[0]}")/../examples/demo/demo.py" --bin-dir "$(dirname "$step")" "$@" ||
+    status=$?
 cat >&2 <<'MSG'
 
 demo: this was one scene. The benchmark (issue 4) steps every scene in both builds, replays identical broadphase

@@ -10,7 +10,7 @@
 # Purposes (each includes "core": compiler, CMake, Catch2, cairo, and what fetches Box2D's source):
 #   test         scripts/test.sh: + ffmpeg (configuring the project builds the tests, which need Catch2, and
 #                quadphase-scene, which needs cairo; its tests write a GIF and an MP4 through ffmpeg)
-#   demo         scripts/demo.sh: core only
+#   demo         scripts/demo.sh: + python3 (the demo's report is the benchmark's, bench/qpbench)
 #   render       scripts/render.sh: + ffmpeg (GIF/MP4)
 #   testbed      scripts/testbed-screenshot.sh: + X11/GL dev packages for Box2D's testbed, Xvfb, Mesa, xdotool, ffmpeg
 #   bench        bench/*.sh, scripts/soak.sh: + Chipmunk2D, Bullet, python3
@@ -27,6 +27,8 @@ set -euo pipefail
 core=(
     cmake g++ make
     catch2                  # Catch2 2.x (find_package(Catch2 2))
+    libcli11-dev            # command lines of the tools (support/tools, find_package(CLI11))
+    nlohmann-json3-dev      # JSON of the tools (support/tools, find_package(nlohmann_json 3))
     libcairo2-dev fonts-dejavu-core  # quadphase-scene (examples/scene_cli): PNG frames and their text
     pkg-config              # cairo; tests/package: a game finding Box2D through pkg-config box2d
     ca-certificates xz-utils
@@ -40,7 +42,7 @@ xvfb=(xvfb xauth libgl1-mesa-dri xdotool)  # virtual X server, Mesa software GL,
 
 packages_for() {
     case "$1" in
-        demo) ;;
+        demo) echo python3 ;;
         test | sanitize | render) echo ffmpeg ;;  # test, sanitize: tests/scene_cli writes a GIF and an MP4
         testbed)
             echo libgl-dev libx11-dev libxrandr-dev libxinerama-dev libxcursor-dev libxi-dev  # the testbed's glfw

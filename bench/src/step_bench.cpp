@@ -4,7 +4,9 @@
 // invocation, and takes medians over repeats.
 //
 //   qp-step-<variant> --scene NAME --size N [--seed S] [--warmup W] [--steps S] [--threads T|default]
-//                     [--ccd scene|on|off] [--json FILE] [--label TEXT]   (--list prints the scene names)
+//                     [--ccd scene|on|off] [--json FILE] [--label TEXT] [--validate] [--timing]
+//                     (--list prints the scenes: name, size range and default, then tab-separated what the size
+//                     counts and a description)
 //
 // Builds the scene, steps it W times untimed (warm-up), then S timed steps, and appends one JSON line with,
 // per timed step, the median and the mean of Box2D's own b2Profile fields (step, collide, solve, broadphase,
@@ -14,7 +16,9 @@
 // (Stats::memoryBytes) and threads. --threads sets quadphase::Config::threads (0: OpenMP's default);
 // "default" leaves the Config as the adapter made it (Box2D's defaults: the thread count follows
 // OMP_NUM_THREADS); the stock build accepts 1 or default. --ccd sets b2World::SetContinuousPhysics (default
-// "scene": as the scene built it; every scene leaves Box2D's default, on); the JSON line says which.
+// "scene": as the scene built it; every scene leaves Box2D's default, on); the JSON line says which. The
+// quadtree build's --validate checks every UpdatePairs against a shadow b2DynamicTree (exit status 1 on a
+// mismatch) and --timing also times proxy updates; the side-by-side demo (scripts/demo.sh) uses both.
 //
 // Phases (of the timed steps, from the world's state after each step, untimed): with D dynamic bodies,
 // "falling" while fewer than 1% of them touch a static body (nothing has landed yet: in rain, until the
@@ -29,14 +33,16 @@
 // contacts); the time-of-impact phase's broadphase work is in solveTOI. The time inside the broadphase alone
 // is measured by the replay (qp-replay*), on a recorded trace of the same scene.
 #include <algorithm>
+#include <cinttypes>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <numeric>
 #include <string>
 #include <vector>
 
 #include "box2d/box2d.h"
 #include "quadphase_scenes/scenes.h"
+#include "quadphase_tools/counting_filter.h"
 #include "tool_common.h"
 
 #include "box2d_variant.h"
@@ -47,21 +53,7 @@ namespace
 
 using namespace qpbench;
 
-class CountingFilter : public b2ContactFilter
-{
-public:
-    bool ShouldCollide(b2Fixture* a, b2Fixture* b) override
-    {
-        ++calls;
-        return b2ContactFilter::ShouldCollide(a, b);
-    }
-    int64_t calls = 0;
-};
-
-double Mean(const std::vector<double>& v)
-{
-    return v.empty() ? 0.0 : std::accumulate(v.begin(), v.end(), 0.0) / double(v.size());
-}
+using quadphase::tools::CountingFilter;
 
 int AwakeDynamic(const b2World& world)
 {
@@ -86,24 +78,28 @@ int main(int argc, char** argv)
     namespace scenes = quadphase::scenes;
     const Args args(argc, argv, "qp-step-" + std::string(kVariant),
                     {"scene", "size", "seed", "warmup", "steps", "threads", "ccd", "json", "label"},
-                    {"list", "per-step"});
+                    {"list", "per-step", "validate", "timing"});
     if (args.Has("list"))
     {
         for (const scenes::SceneInfo& info : scenes::AllScenes())
         {
-            std::printf("%s %d %d %d\n", info.name, info.minSize, info.maxSize, info.defaultSize);
+            std::printf("%s %d %d %d\t%s\t%s\n", info.name, info.minSize, info.maxSize, info.defaultSize,
+                        info.sizeMeaning, info.description);
         }
         return 0;
     }
     const std::string ccd = args.Get("ccd", "scene");
     const std::string threads = args.Get("threads", "1");
-    args.Check(args.Has("scene") && args.Has("size") && (ccd == "scene" || ccd == "on" || ccd == "off"),
-               "usage: qp-step-%s --scene NAME --size N [--seed S] [--warmup W] [--steps S]"
-               " [--threads T|default]\n"
-               "       [--ccd scene|on|off] [--json FILE] [--label TEXT] [--per-step]"
-               "   (--list: scene names and size ranges)\n"
-               "scenes: %s\n",
-               kVariant, scenes::SceneNameList().c_str());
+    const bool validate = args.Has("validate"), timing = args.Has("timing");
+    args.Check(
+        args.Has("scene") && args.Has("size") && (ccd == "scene" || ccd == "on" || ccd == "off") &&
+            (kQuadtree || !(validate || timing)),
+        "usage: qp-step-%s --scene NAME --size N [--seed S] [--warmup W] [--steps S]"
+        " [--threads T|default]\n"
+        "       [--ccd scene|on|off] [--json FILE] [--label TEXT] [--per-step] [--validate] [--timing]\n"
+        "       (--list: scene names and size ranges; --validate and --timing: quadtree build only)\n"
+        "scenes: %s\n",
+        kVariant, scenes::SceneNameList().c_str());
     const auto sceneId = scenes::ParseSceneName(args.Get("scene"));
     if (!sceneId)
     {
@@ -121,6 +117,7 @@ int main(int argc, char** argv)
 
     CountingFilter filter; // outlives the world
     scenes::Scene scene;
+    const int64_t build0 = NowNs();
     try
     {
         scene = scenes::BuildScene(*sceneId, size, seed);
@@ -129,6 +126,7 @@ int main(int argc, char** argv)
     {
         Die(2, "qp-step-%s: %s\n", kVariant, e.what());
     }
+    const double buildSeconds = double(NowNs() - build0) * 1e-9;
     b2World& world = *scene.world;
     world.SetContactFilter(&filter);
     if (ccd != "scene")
@@ -136,11 +134,24 @@ int main(int argc, char** argv)
         world.SetContinuousPhysics(ccd == "on");
     }
     ApplyThreads(world, threads);
+#if QUADPHASE_VARIANT_QUADPHASE
+    if (validate)
+    {
+        quadphase::SetValidation(world, true);
+    }
+    if (timing)
+    {
+        quadphase::SetTiming(world, true);
+    }
+#endif
 
     Phase phase = Falling;
+    double contactsAll = 0.0; // over the warm-up steps too
+    const int64_t run0 = NowNs();
     for (int s = 0; s < warmup; ++s)
     {
         scenes::StepScene(scene);
+        contactsAll += world.GetContactCount();
         phase = Classify(world, phase);
     }
 #if QUADPHASE_VARIANT_QUADPHASE
@@ -163,6 +174,7 @@ int main(int argc, char** argv)
         broadphase.push_back(p.broadphase);
         toi.push_back(p.solveTOI);
         contacts += world.GetContactCount();
+        contactsAll += world.GetContactCount();
         phase = Classify(world, phase); // outside b2Profile (wall_s includes it)
         PhaseSamples& ph = phases[phase];
         ph.first = ph.first < 0 ? warmup + s : ph.first;
@@ -171,7 +183,10 @@ int main(int argc, char** argv)
         stepPhase.push_back(int(phase));
         stepAwake.push_back(AwakeDynamic(world));
     }
-    const double wall = double(NowNs() - t0) * 1e-9;
+    const int64_t end = NowNs();
+    const double wall = double(end - t0) * 1e-9;
+    char positionHash[32];
+    std::snprintf(positionHash, sizeof positionHash, "%016" PRIx64, scenes::HashBodyPositions(world));
 
     JsonLine j;
     j.Str("tool", "qp-step")
@@ -201,6 +216,13 @@ int main(int argc, char** argv)
         .Num("toi_ms_mean", Mean(toi))
         .Num("contacts_mean", contacts / steps)
         .Num("new_pairs_per_step", double(filter.calls - filtered0) / steps)
+        .Int("new_pairs", filter.calls - filtered0)
+        .Int("new_pairs_all_steps", filter.calls)
+        .Num("contacts_mean_all_steps", contactsAll / (warmup + steps))
+        .Int("contacts_end", world.GetContactCount())
+        .Str("position_hash", positionHash)
+        .Num("build_s", buildSeconds)
+        .Num("run_s", double(end - run0) * 1e-9)
         .Num("wall_s", wall)
         .Int("peak_rss_bytes", PeakRss());
     if (args.Has("per-step"))
@@ -226,12 +248,38 @@ int main(int argc, char** argv)
         .Num("qt_serial_by_choice_per_step", double(st.serialByChoice) / steps)
         .Num("qt_find_ms_per_step", 1000.0 * st.pairSeconds / steps)
         .Int("bp_bytes", st.memoryBytes)
-        .Num("bp_bytes_per_proxy", double(st.memoryBytes) / std::max(1, st.proxyCount));
+        .Num("bp_bytes_per_proxy", double(st.memoryBytes) / std::max(1, st.proxyCount))
+        .Num("qt_leaf_size", st.leafSize)
+        .Int("qt_proxies", st.proxyCount)
+        .Int("qt_outside", st.outsideCount)
+        .Int("qt_occupied_cells", st.occupiedCells)
+        .Int("qt_largest_cell", st.largestCell)
+        .Int("qt_rebuilds", st.rebuilds)
+        .Int("qt_update_pairs_calls", st.updatePairsCalls)
+        .Int("qt_pairs_reported", st.pairsReported)
+        .Int("qt_proxies_queried", st.proxiesQueried)
+        .Num("qt_update_ms_per_step", timing ? 1000.0 * st.updateSeconds / steps : NAN);
+    int status = 0;
+    if (validate)
+    {
+        const quadphase::ValidationReport v = quadphase::GetValidationReport(world);
+        j.Int("validation_checks", v.checks)
+            .Int("validation_pairs_compared", v.pairsCompared)
+            .Int("validation_mismatches", v.mismatches)
+            .Str("validation_first_mismatch", v.firstMismatch);
+        status = v.mismatches != 0 || v.checks == 0 ? 1 : 0;
+    }
+#else
+    const int status = 0;
 #endif
     AppendLine(args.Get("json"), j.Text());
     std::printf("%s %s %d: step %.3f ms, broadphase %.3f ms (medians over %d steps), %.0f contacts, peak RSS "
                 "%.1f MB\n",
                 kVariant, args.Get("scene").c_str(), size, Median(step), Median(broadphase), steps,
                 contacts / steps, double(PeakRss()) / 1048576.0);
-    return 0;
+    if (status != 0)
+    {
+        std::fprintf(stderr, "qp-step-%s: validation FAILED (see validation_* in the JSON line)\n", kVariant);
+    }
+    return status;
 }

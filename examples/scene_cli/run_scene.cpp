@@ -17,6 +17,7 @@
 #include "box2d/box2d.h"
 #include "frame_renderer.h"
 #include "quadphase_scenes/scenes.h"
+#include "quadphase_tools/counting_filter.h"
 #include "quadtree_overlay.h"
 #include "scene_cli_options.h"
 #include "view_bounds.h"
@@ -37,18 +38,7 @@ namespace
 using namespace quadphase::scene_cli;
 namespace scenes = quadphase::scenes;
 
-/// Counts the new pairs Box2D asks the contact filter about, keeping Box2D's default decision. The same count
-/// in both builds, whatever each broadphase reports internally.
-class CountingFilter : public b2ContactFilter
-{
-public:
-    bool ShouldCollide(b2Fixture* fixtureA, b2Fixture* fixtureB) override
-    {
-        ++calls;
-        return b2ContactFilter::ShouldCollide(fixtureA, fixtureB);
-    }
-    int64_t calls = 0;
-};
+using quadphase::tools::CountingFilter;
 
 int32_t CountAwake(const b2World& world)
 {

@@ -1,7 +1,11 @@
 // Parsing and help text of quadphase-scene's options.
 #include "scene_cli_options.h"
 
+#include <algorithm>
 #include <cstdlib>
+#include <map>
+
+#include <CLI/CLI.hpp>
 
 namespace quadphase::scene_cli
 {
@@ -10,7 +14,6 @@ namespace
 {
 
 using scenes::ParseInteger;
-using scenes::WalkOptions;
 
 float ParseFloat(const std::string& option, const std::string& text)
 {
@@ -65,117 +68,146 @@ bool EndsWith(const std::string& text, const std::string& suffix)
            text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
+/// The command line split by CLI11: the values of each value option in the order given, and the flags seen.
+struct Split
+{
+    std::map<std::string, std::vector<std::string>> values;
+    std::map<std::string, int> flags;
+};
+
+/// Splits `args` (argv without argv[0]; "--name value", "--name=value", flags) into `valueOptions` and `flags`.
+/// Throws UsageError naming the option for a missing value, a flag given "=value" and, unless `othersAllowed`,
+/// for anything else.
+Split SplitArgs(const std::vector<std::string>& args, const std::vector<std::string>& valueOptions,
+                const std::vector<std::string>& flags, bool othersAllowed)
+{
+    Split split;
+    CLI::App app;
+    app.set_help_flag();
+    app.allow_extras();
+    for (const std::string& name : valueOptions)
+    {
+        app.add_option(name, split.values[name])
+            ->allow_extra_args(false)
+            ->expected(1)
+            ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+    }
+    for (const std::string& names : flags)
+    {
+        app.add_flag(names, split.flags[names.substr(0, names.find(','))])->disable_flag_override();
+    }
+    try
+    {
+        app.parse(std::vector<std::string>(args.rbegin(), args.rend())); // CLI11 takes them last first
+    }
+    catch (const CLI::ParseError& error)
+    {
+        // CLI11's message does not name the option the way the tests and users expect: find it.
+        for (size_t i = 0; i < args.size(); ++i)
+        {
+            const std::string name = args[i].substr(0, args[i].find('='));
+            const bool isValueOption =
+                std::find(valueOptions.begin(), valueOptions.end(), args[i]) != valueOptions.end();
+            if (isValueOption && (i + 1 == args.size() || args[i + 1].rfind("--", 0) == 0))
+            {
+                throw UsageError("option " + args[i] + " needs a value");
+            }
+            if (name != args[i] && split.flags.count(name) != 0)
+            {
+                throw UsageError("option " + name + " takes no value");
+            }
+        }
+        throw UsageError(error.what());
+    }
+    if (!othersAllowed && !app.remaining().empty())
+    {
+        throw UsageError("unknown option '" + app.remaining().front() + "' (see --help)");
+    }
+    return split;
+}
+
 } // namespace
 
 std::string FindBroadphase(const std::vector<std::string>& args)
 {
-    std::string broadphase = "quadtree";
-    for (size_t i = 0; i < args.size(); ++i)
-    {
-        if (args[i] == "--broadphase")
-        {
-            if (i + 1 >= args.size())
-            {
-                throw UsageError("option --broadphase needs a value");
-            }
-            broadphase = CheckBroadphase("--broadphase", args[++i]);
-        }
-        else if (args[i].rfind("--broadphase=", 0) == 0)
-        {
-            broadphase = CheckBroadphase("--broadphase", args[i].substr(13));
-        }
-    }
-    return broadphase;
+    const Split split = SplitArgs(args, {"--broadphase"}, {}, true);
+    const std::vector<std::string>& given = split.values.at("--broadphase");
+    return given.empty() ? "quadtree" : CheckBroadphase("--broadphase", given.back());
 }
 
 Options ParseOptions(const std::vector<std::string>& args)
 {
+    const Split split =
+        SplitArgs(args,
+                  {"--scene", "--size", "--steps", "--seed", "--broadphase", "--threads", "--png", "--every",
+                   "--width", "--height", "--view", "--gif", "--mp4", "--fps"},
+                  {"--help,-h", "--no-overlay", "--quiet"}, false);
     Options options;
-    bool everyGiven = false;
-    WalkOptions(args, [&](const std::string& name, auto&& takeValue, auto&& noValue, const std::string& raw) {
-        if (name == "--help" || name == "-h")
-        {
-            noValue();
-            options.help = true;
-        }
-        else if (scenes::ParseSceneOption(name, takeValue, options))
-        {
-            // --scene, --size, --steps or --seed
-        }
-        else if (name == "--broadphase")
-        {
-            options.broadphase = CheckBroadphase(name, takeValue());
-        }
-        else if (name == "--threads")
-        {
-            options.threads = static_cast<int>(ParseInteger(name, takeValue(), 0, 256));
-        }
-        else if (name == "--png")
-        {
-            options.pngDir = takeValue();
-            if (options.pngDir.empty())
-            {
-                throw UsageError("option --png needs a directory name");
-            }
-        }
-        else if (name == "--every")
-        {
-            options.every = static_cast<int>(ParseInteger(name, takeValue(), 1, 10000000));
-            everyGiven = true;
-        }
-        else if (name == "--width")
-        {
-            options.width = static_cast<int>(ParseInteger(name, takeValue(), 16, 8192));
-        }
-        else if (name == "--height")
-        {
-            options.height = static_cast<int>(ParseInteger(name, takeValue(), 16, 8192));
-        }
-        else if (name == "--view")
-        {
-            options.view = ParseView(name, takeValue());
-            options.autoView = false;
-        }
-        else if (name == "--no-overlay")
-        {
-            noValue();
-            options.overlay = false;
-        }
-        else if (name == "--gif")
-        {
-            options.gifPath = takeValue();
-            if (!EndsWith(options.gifPath, ".gif"))
-            {
-                throw UsageError("option --gif expects a file name ending in .gif, got '" + options.gifPath +
-                                 "'");
-            }
-        }
-        else if (name == "--mp4")
-        {
-            options.mp4Path = takeValue();
-            if (!EndsWith(options.mp4Path, ".mp4"))
-            {
-                throw UsageError("option --mp4 expects a file name ending in .mp4, got '" + options.mp4Path +
-                                 "'");
-            }
-        }
-        else if (name == "--fps")
-        {
-            options.fps = static_cast<int>(ParseInteger(name, takeValue(), 1, 120));
-        }
-        else if (name == "--quiet")
-        {
-            noValue();
-            options.quiet = true;
-        }
-        else
-        {
-            throw UsageError("unknown option '" + raw + "' (see --help)");
-        }
-    });
+    options.help = split.flags.at("--help") > 0;
     if (options.help)
     {
         return options;
+    }
+    options.overlay = split.flags.at("--no-overlay") == 0;
+    options.quiet = split.flags.at("--quiet") > 0;
+    bool everyGiven = false;
+    for (const auto& [name, values] : split.values)
+    {
+        for (const std::string& value : values) // the last one wins
+        {
+            const auto takeValue = [&value]() {
+                return value;
+            };
+            if (scenes::ParseSceneOption(name, takeValue, options))
+            {
+                // --scene, --size, --steps or --seed
+            }
+            else if (name == "--broadphase")
+            {
+                options.broadphase = CheckBroadphase(name, value);
+            }
+            else if (name == "--threads")
+            {
+                options.threads = static_cast<int>(ParseInteger(name, value, 0, 256));
+            }
+            else if (name == "--png")
+            {
+                options.pngDir = value;
+                if (options.pngDir.empty())
+                {
+                    throw UsageError("option --png needs a directory name");
+                }
+            }
+            else if (name == "--every")
+            {
+                options.every = static_cast<int>(ParseInteger(name, value, 1, 10000000));
+                everyGiven = true;
+            }
+            else if (name == "--width" || name == "--height")
+            {
+                (name == "--width" ? options.width : options.height) =
+                    static_cast<int>(ParseInteger(name, value, 16, 8192));
+            }
+            else if (name == "--view")
+            {
+                options.view = ParseView(name, value);
+                options.autoView = false;
+            }
+            else if (name == "--gif" || name == "--mp4")
+            {
+                const std::string suffix = name == "--gif" ? ".gif" : ".mp4";
+                (name == "--gif" ? options.gifPath : options.mp4Path) = value;
+                if (!EndsWith(value, suffix))
+                {
+                    throw UsageError("option " + name + " expects a file name ending in " + suffix +
+                                     ", got '" + value + "'");
+                }
+            }
+            else if (name == "--fps")
+            {
+                options.fps = static_cast<int>(ParseInteger(name, value, 1, 120));
+            }
+        }
     }
 
     scenes::ResolveSceneSize(options.sceneId, options.size);

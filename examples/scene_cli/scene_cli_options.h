@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "quadphase_scenes/scene_options.h"
 #include "quadphase_scenes/scenes.h"
+#include "scene_options.h"
 
 namespace quadphase::scene_cli
 {

@@ -341,6 +341,12 @@ struct Grid
     float X(int level, int i) const { return x0 + float(i) * CellSide(level); }
     float Y(int level, int j) const { return y0 + float(j) * CellSide(level); }
     float Leaf() const { return CellSide(depth); }
+    /// A uniform random point of the grid's square grown by `margin` on every side.
+    b2Vec2 RandomPoint(Rng& rng, float margin) const
+    {
+        return b2Vec2(x0 - margin + (side + 2.0f * margin) * rng.Uniform01(),
+                      y0 - margin + (side + 2.0f * margin) * rng.Uniform01());
+    }
 };
 
 float PowerOfTwoAtLeast(float v)
@@ -688,8 +694,7 @@ std::vector<b2AABB> MakeQueries(const Prepared& p, const std::vector<Live>& live
     const float leaf = g.Leaf();
     const float side = g.side;
     auto inGrid = [&](float margin) {
-        return b2Vec2(g.x0 - margin + (side + 2.0f * margin) * rng.Uniform01(),
-                      g.y0 - margin + (side + 2.0f * margin) * rng.Uniform01());
+        return g.RandomPoint(rng, margin);
     };
     auto randomLive = [&]() -> const Live& {
         return live[rng.Index(uint32_t(live.size()))];
@@ -861,8 +866,7 @@ std::vector<Ray> MakeRays(const Prepared& p, const std::vector<Live>& live, Rng&
     const float leaf = g.Leaf();
     const float side = g.side;
     auto inGrid = [&](float margin) {
-        return b2Vec2(g.x0 - margin + (side + 2.0f * margin) * rng.Uniform01(),
-                      g.y0 - margin + (side + 2.0f * margin) * rng.Uniform01());
+        return g.RandomPoint(rng, margin);
     };
     auto direction = [&]() {
         const float a = rng.Uniform(-b2_pi, b2_pi);

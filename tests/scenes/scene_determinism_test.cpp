@@ -2,7 +2,6 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
-#include <cstring>
 #include <stdexcept>
 #include <vector>
 
@@ -48,27 +47,6 @@ int SmallSize(const SceneInfo& info)
     return info.minSize;
 }
 
-/// Every body's position, angle and velocities, as raw bit patterns (body-list order).
-std::vector<uint32_t> BodyBits(const b2World& world)
-{
-    std::vector<uint32_t> bits;
-    auto push = [&bits](float value) {
-        uint32_t word;
-        std::memcpy(&word, &value, sizeof word);
-        bits.push_back(word);
-    };
-    for (const b2Body* body = world.GetBodyList(); body != nullptr; body = body->GetNext())
-    {
-        push(body->GetPosition().x);
-        push(body->GetPosition().y);
-        push(body->GetAngle());
-        push(body->GetLinearVelocity().x);
-        push(body->GetLinearVelocity().y);
-        push(body->GetAngularVelocity());
-    }
-    return bits;
-}
-
 std::vector<uint32_t> Run(SceneId id, int size, uint32_t seed, int steps)
 {
     Scene scene = quadphase::scenes::BuildScene(id, size, seed);
@@ -77,7 +55,7 @@ std::vector<uint32_t> Run(SceneId id, int size, uint32_t seed, int steps)
         quadphase::scenes::StepScene(scene);
     }
     REQUIRE(scene.stepCount == steps);
-    return BodyBits(*scene.world);
+    return quadphase::scenes::BodyStateBits(*scene.world);
 }
 
 } // namespace

@@ -1,7 +1,6 @@
-// The command-line pieces every scene program shares (quadphase-demo and its workers, quadphase-scene and its
-// workers): splitting "--name value" / "--name=value", integer values with their range, and the scene options
-// --scene, --size, --steps and --seed with the check of --size against the scene's range. Header-only, so a
-// program that does not parse options (the tests, the benchmarks) compiles nothing of it.
+// The command-line values of quadphase-scene and its workers (CLI11 splits the command line,
+// scene_cli_options.cpp): integers with their range, and the scene options --scene, --size, --steps and --seed
+// with the check of --size against the scene's range.
 #pragma once
 
 #include <charconv>
@@ -41,47 +40,6 @@ inline int64_t ParseInteger(std::string_view option, std::string_view text, int6
                          std::to_string(hi) + "], got " + std::to_string(value));
     }
     return value;
-}
-
-/// Walks `args` (argv without argv[0]), splitting "--name=value", and calls handle(name, takeValue, noValue,
-/// raw) for each option: takeValue() returns the option's value (the "=value" part or the next argument) and
-/// throws UsageError when there is none; noValue() throws UsageError when a flag was given "=value"; raw is the
-/// argument as typed.
-template <typename Handler>
-void WalkOptions(const std::vector<std::string>& args, Handler&& handle)
-{
-    for (size_t i = 0; i < args.size(); ++i)
-    {
-        std::string name = args[i];
-        std::string value;
-        bool hasValue = false;
-        const size_t equals = name.find('=');
-        if (name.rfind("--", 0) == 0 && equals != std::string::npos)
-        {
-            value = name.substr(equals + 1);
-            name = name.substr(0, equals);
-            hasValue = true;
-        }
-        const size_t at = i;
-        auto takeValue = [&]() -> std::string {
-            if (hasValue)
-            {
-                return value;
-            }
-            if (i + 1 >= args.size())
-            {
-                throw UsageError("option " + name + " needs a value");
-            }
-            return args[++i];
-        };
-        auto noValue = [&]() {
-            if (hasValue)
-            {
-                throw UsageError("option " + name + " takes no value");
-            }
-        };
-        handle(name, takeValue, noValue, args[at]);
-    }
 }
 
 /// Handles --scene, --size, --steps and --seed into `options` (any struct with members sceneId, scene, size,

@@ -212,6 +212,23 @@ uint64_t HashBodyPositions(const b2World& world)
     return hash;
 }
 
+std::vector<uint32_t> BodyStateBits(const b2World& world)
+{
+    std::vector<uint32_t> bits;
+    for (const b2Body* body = world.GetBodyList(); body != nullptr; body = body->GetNext())
+    {
+        for (float value :
+             {body->GetPosition().x, body->GetPosition().y, body->GetAngle(), body->GetLinearVelocity().x,
+              body->GetLinearVelocity().y, body->GetAngularVelocity()})
+        {
+            uint32_t word;
+            std::memcpy(&word, &value, sizeof word);
+            bits.push_back(word);
+        }
+    }
+    return bits;
+}
+
 // ---------------------------------------------------------------------------------------------------------------
 // Rng
 

@@ -54,11 +54,8 @@ Scene BuildParticles(int size, uint32_t seed)
 
     b2CircleShape circle;
     circle.m_radius = radius;
-    b2FixtureDef fd;
+    b2FixtureDef fd = Material(1.0f, 0.0f, 1.0f);
     fd.shape = &circle;
-    fd.density = 1.0f;
-    fd.friction = 0.0f;
-    fd.restitution = 1.0f;
 
     for (int32_t cell : cells)
     {

@@ -65,10 +65,7 @@ Scene BuildSparse(int size, uint32_t seed)
         bd.angularVelocity = rng.Uniform(-1.0f, 1.0f);
         b2Body* body = world.CreateBody(&bd);
 
-        b2FixtureDef fd;
-        fd.density = 1.0f;
-        fd.friction = 0.2f;
-        fd.restitution = 1.0f;
+        b2FixtureDef fd = Material(1.0f, 0.2f, 1.0f);
         AddRandomCircleOrBox(body, fd, rng, 0.5f, 1.0f, 0.4f, 1.0f);
     }
 

@@ -52,10 +52,7 @@ struct Gun
             bd.linearVelocity.Set(vx, vy);
             body = world.CreateBody(&bd);
 
-            b2FixtureDef fd;
-            fd.density = 10.0f;
-            fd.friction = 0.4f;
-            fd.restitution = 0.2f;
+            b2FixtureDef fd = Material(10.0f, 0.4f, 0.2f);
             if (index % 4 < 2)
             {
                 b2CircleShape circle;

@@ -73,10 +73,7 @@ Scene BuildMixed(int size, uint32_t seed)
                             y0 + layer.pitch * static_cast<float>(row));
             bd.angle = rng.Uniform(-b2_pi, b2_pi);
             b2Body* body = world.CreateBody(&bd);
-            b2FixtureDef fd;
-            fd.density = 1.0f;
-            fd.friction = 0.6f;
-            fd.restitution = 0.1f;
+            b2FixtureDef fd = Material(1.0f, 0.6f, 0.1f);
             AddRandomCircleOrBox(body, fd, rng, layer.rMin, layer.rMax, layer.hMin, layer.hMax);
         }
         const int rows = (layer.count + columns - 1) / columns;

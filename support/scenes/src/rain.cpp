@@ -72,10 +72,7 @@ Scene BuildRain(int size, uint32_t seed)
         bd.linearVelocity.Set(vx, vy);
         b2Body* body = world.CreateBody(&bd);
 
-        b2FixtureDef fd;
-        fd.density = 1.0f;
-        fd.friction = 0.6f;
-        fd.restitution = 0.1f;
+        b2FixtureDef fd = Material(1.0f, 0.6f, 0.1f);
         AddRandomCircleOrBox(body, fd, rng, 0.2f, 0.5f, 0.2f, 0.45f);
     }
     return scene;

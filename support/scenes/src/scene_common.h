@@ -35,6 +35,16 @@ inline Scene MakeScene(SceneId id, int size, uint32_t seed, b2Vec2 gravity)
     return scene;
 }
 
+/// A fixture definition with this material (shape and filter left to the caller).
+inline b2FixtureDef Material(float density, float friction, float restitution)
+{
+    b2FixtureDef fd;
+    fd.density = density;
+    fd.friction = friction;
+    fd.restitution = restitution;
+    return fd;
+}
+
 /// A static body at the origin (fixtures are added by the caller).
 inline b2Body* CreateStaticBody(b2World& world, b2Vec2 position = b2Vec2(0.0f, 0.0f))
 {

@@ -105,6 +105,10 @@ int32_t CountFixtures(const b2World& world);
 /// FNV-1a hash over the bit patterns of every body's position and angle, in body-list order.
 uint64_t HashBodyPositions(const b2World& world);
 
+/// The bit patterns of every body's position, angle and velocities (x, y, angle, vx, vy, w per body), in
+/// body-list order: two worlds stepped identically give equal vectors.
+std::vector<uint32_t> BodyStateBits(const b2World& world);
+
 /// Portable deterministic random numbers: std::mt19937 with explicit mappings.
 class Rng
 {

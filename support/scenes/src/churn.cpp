@@ -34,10 +34,7 @@ struct Churn
         bd.angle = rng.Uniform(-b2_pi, b2_pi);
         bd.linearVelocity = velocity;
         b2Body* body = world.CreateBody(&bd);
-        b2FixtureDef fd;
-        fd.density = 1.0f;
-        fd.friction = 0.6f;
-        fd.restitution = 0.1f;
+        b2FixtureDef fd = Material(1.0f, 0.6f, 0.1f);
         AddRandomCircleOrBox(body, fd, rng, 0.25f, 0.5f, 0.25f, 0.45f);
         live.push_back(body);
     }

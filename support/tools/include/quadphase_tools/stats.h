@@ -1,0 +1,30 @@
+// Medians and means of the tools' samples.
+#pragma once
+
+#include <algorithm>
+#include <numeric>
+#include <vector>
+
+namespace quadphase::tools
+{
+
+/// The median of `v` (the mean of the two middle values for an even count); T{} when empty.
+template <typename T>
+T Median(std::vector<T> v)
+{
+    if (v.empty())
+    {
+        return T{};
+    }
+    std::sort(v.begin(), v.end());
+    const size_t n = v.size();
+    return n % 2 == 1 ? v[n / 2] : T((v[n / 2 - 1] + v[n / 2]) / 2);
+}
+
+/// The mean of `v`; 0 when empty.
+inline double Mean(const std::vector<double>& v)
+{
+    return v.empty() ? 0.0 : std::accumulate(v.begin(), v.end(), 0.0) / double(v.size());
+}
+
+} // namespace quadphase::tools
