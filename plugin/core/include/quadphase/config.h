@@ -2,6 +2,7 @@
 #pragma once
 
 #include "quadphase/box.h"
+#include "quadphase/task_system.h"
 
 namespace quadphase
 {
@@ -51,6 +52,12 @@ struct Config
     /// region costs a few microseconds, more than the queries of a small scene or of a time-of-impact update.
     /// Chosen from bench/ measurements; see docs/design.md, "Parallel pair generation".
     int parallelThreshold = 128;
+
+    /// The game's job system (see quadphase/task_system.h). When set, parallel pair generation runs on it and
+    /// quadphase makes no OpenMP call; `threads` then counts the game's workers (0: up to taskSystem.workerCount,
+    /// chosen by measurement as for OpenMP; N > 0: min(N, workerCount)), and `schedule` and `chunk` do not apply.
+    /// Empty by default: OpenMP. Configure rejects a half-set one (std::invalid_argument).
+    TaskSystem taskSystem;
 };
 
 /// Deepest pyramid allowed: 4^12 leaf cells already cost hundreds of MB.
