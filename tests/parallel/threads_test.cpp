@@ -45,13 +45,31 @@ TEST_CASE("with the defaults, a scene under the work threshold starts no thread"
 {
     const int before = ThreadCount();
     // A pyramid of 55 boxes: every FindPairs has fewer buffered proxies than Config::parallelThreshold (128).
-    // (A pyramid of 210 does start OpenMP's team today: its first calls buffer every proxy, and the measured
-    // choice tries the parallel path on the second of them.)
-    quadphase::scenes::Scene scene = quadphase::scenes::BuildScene(SceneId::Pyramid, 10, 1);
-    const quadphase::Stats stats = StepScene(scene, 300);
-    REQUIRE(stats.pairsReported > 0);
-    CHECK(stats.parallelCalls == 0);
+    quadphase::scenes::Scene pyramid = quadphase::scenes::BuildScene(SceneId::Pyramid, 10, 1);
+    const quadphase::Stats small = StepScene(pyramid, 300);
+    REQUIRE(small.pairsReported > 0);
+    CHECK(small.parallelCalls == 0);
     CHECK(ThreadCount() == before);
+
+    // 4,000 bodies: most calls buffer more than parallelThreshold proxies, but the scene is under
+    // Config::parallelMinProxies, where a second thread did not pay.
+    quadphase::scenes::Scene rain = quadphase::scenes::BuildScene(SceneId::Rain, 4000, 1);
+    const quadphase::Stats mid = StepScene(rain, 120);
+    REQUIRE(mid.proxiesQueried > 128 * 60);
+    CHECK(mid.parallelCalls == 0);
+    CHECK(ThreadCount() == before);
+}
+
+TEST_CASE("with the defaults, a large scene starts OpenMP's team when it is built, not in a step",
+          "[threads][warm]")
+{
+    const int before = ThreadCount();
+    quadphase::scenes::Scene scene = quadphase::scenes::BuildScene(SceneId::Particles, 20000, 1);
+    REQUIRE(quadphase::GetConfig(*scene.world).parallelMinProxies <= 20000);
+    const int built = ThreadCount();
+    CHECK(built > before); // started in CreateProxy, between steps
+    StepScene(scene, 30);
+    CHECK(ThreadCount() == built); // no step started one
 }
 
 TEST_CASE("with a game's task system, pair generation starts no OpenMP thread", "[threads][tasks]")
@@ -59,10 +77,10 @@ TEST_CASE("with a game's task system, pair generation starts no OpenMP thread", 
     qpjobs::JobSystem jobs(3); // its two pool threads exist before the count
     const int before = ThreadCount();
     quadphase::scenes::Scene scene = quadphase::scenes::BuildScene(SceneId::Particles, 4000, 1);
-    quadphase::Config config = quadphase::GetConfig(*scene.world);
+    quadphase::SetTaskSystem(*scene.world, jobs.Tasks());
+    quadphase::Config config = quadphase::GetConfig(*scene.world); // the task system included
     config.threads = 3; // every large call parallel, whatever the measured choice would say
     quadphase::Configure(*scene.world, config);
-    quadphase::SetTaskSystem(*scene.world, jobs.Tasks());
     const quadphase::Stats stats = StepScene(scene, 60);
     REQUIRE(stats.parallelCalls > 0);
     CHECK(jobs.RangesOnPool() > 0);

@@ -66,6 +66,7 @@ QuadtreeBroadPhase::QuadtreeBroadPhase(const FatPolicy& policy, const Config& co
 {
     CheckTaskSystem(config.taskSystem);
     Retune();
+    StartTeamIfDue();
 }
 
 ProxyId QuadtreeBroadPhase::CreateProxy(const Box& tight, void* userData)
@@ -110,6 +111,7 @@ ProxyId QuadtreeBroadPhase::CreateProxy(const Box& tight, void* userData)
         {
         }
     }
+    StartTeamIfDue();
     if (m_timing)
     {
         m_counters.updateSeconds += SecondsSince(start);
@@ -211,6 +213,8 @@ void QuadtreeBroadPhase::Configure(const Config& config)
         m_config = previous; // all or nothing
         throw;
     }
+    m_teamStarted = false; // the thread count or the executor may have changed
+    StartTeamIfDue();
 }
 
 void QuadtreeBroadPhase::SetTaskSystem(const TaskSystem& tasks)
@@ -219,6 +223,8 @@ void QuadtreeBroadPhase::SetTaskSystem(const TaskSystem& tasks)
     m_config.taskSystem = tasks;
     m_choice = ThreadChoice{}; // what OpenMP's team cost says nothing of the game's workers
     m_aftermathSeconds = 0.0;
+    m_teamStarted = false;
+    StartTeamIfDue();
 }
 
 } // namespace quadphase

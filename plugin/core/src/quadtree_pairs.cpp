@@ -42,7 +42,7 @@ void QuadtreeBroadPhase::FindPairs(std::vector<Pair>& out)
     // Below the threshold no parallel region can open (neither the queue's apply nor the search), so OpenMP is
     // not asked (omp_get_max_threads is a call into libgomp; most of Box2D's calls, after time-of-impact events
     // and on quiet scenes, are this small).
-    int threads = work >= int64_t(m_config.parallelThreshold) ? Threads() : 1;
+    int threads = work >= int64_t(m_config.parallelThreshold) && MayRunParallel() ? Threads() : 1;
     const bool eligible = m_config.threads == 0 && threads > 1 && work >= int64_t(m_config.parallelThreshold);
     // The queued moves applied since the last eligible call: the aftermath of that call's mode (see ThreadChoice).
     const double aftermath = m_aftermathSeconds;
@@ -111,6 +111,24 @@ void QuadtreeBroadPhase::FindPairsOfWork(std::vector<Pair>& out, int threads)
         {
             QueryPairsOf(q, out);
         }
+    }
+}
+
+void QuadtreeBroadPhase::StartTeam()
+{
+    m_teamStarted = true;
+    if (UsesTaskSystem())
+    {
+        return; // the game's workers exist already
+    }
+    const int threads = Threads();
+    if (threads > 1)
+    {
+        // A region that only counts its threads: libgomp creates the team here and keeps it for the later
+        // regions of the same size. (GCC drops a region with an empty body, threads and all.)
+        std::atomic<int> started{0};
+#pragma omp parallel num_threads(threads)
+        started.fetch_add(1, std::memory_order_relaxed);
     }
 }
 

@@ -227,6 +227,22 @@ private:
     void QueryPairsOf(ProxyId q, std::vector<Pair>& out) const;
     void UpdateStaleEntries(std::chrono::steady_clock::time_point* now = nullptr); // `now` as in ApplyQueued
     int Threads() const;
+    // Whether a FindPairs call may go parallel at all: an explicit thread count, or a scene of
+    // Config::parallelMinProxies proxies.
+    bool MayRunParallel() const
+    {
+        return m_config.threads > 1 ||
+               (m_config.threads == 0 && m_pool.LiveCount() >= m_config.parallelMinProxies);
+    }
+    // Starts OpenMP's team the first time MayRunParallel() holds, so that no FindPairs pays for creating it.
+    void StartTeamIfDue()
+    {
+        if (!m_teamStarted && MayRunParallel())
+        {
+            StartTeam();
+        }
+    }
+    void StartTeam();
     bool UsesTaskSystem() const { return m_config.taskSystem.enqueueTask != nullptr; }
     void FindPairsParallel(std::vector<Pair>& out, int threads);
     class RayCaster; // one RayCast call (quadtree_queries.cpp)
@@ -272,6 +288,7 @@ private:
     // Seconds spent applying queued moves since the last FindPairs that consulted m_choice: the part of a mode's
     // window (see ThreadChoice) that lies outside the calls.
     double m_aftermathSeconds = 0.0;
+    bool m_teamStarted = false; // StartTeam ran (or a task system made it unnecessary)
     // Counts calls that changed proxies or entries (create, destroy, move, queue applied, rebuild). Query and
     // RayCast compare it before and after their callbacks: unchanged means every collected candidate is still
     // what it was, so the re-entrancy checks cost nothing in the common case.
