@@ -6,8 +6,8 @@
 #include <fstream>
 #include <string>
 
-#include "job_system.h"
 #include "quadphase/box2d.h"
+#include "quadphase_jobs/job_system.h"
 #include "quadphase_scenes/scenes.h"
 
 namespace
