@@ -496,9 +496,9 @@ TEST_CASE("SetErrorHandler returns the previous handler and ErrorCodeName names 
     }
     std::set<std::string> names;
     for (ErrorCode c : {ErrorCode::NonFiniteBox, ErrorCode::InvertedBox, ErrorCode::UnknownProxy,
-                        ErrorCode::FirstAdapterCode})
+                        ErrorCode::TaskSystemMisuse, ErrorCode::FirstAdapterCode})
     {
         names.insert(ErrorCodeName(c));
     }
-    REQUIRE(names.size() == 4u);
+    REQUIRE(names.size() == 5u);
 }

@@ -2,6 +2,7 @@
 // under any schedule (and the brute-force reference's set, which the harness checks on every FindPairs).
 #include <algorithm>
 #include <cstdint>
+#include <stdexcept>
 #include <vector>
 
 #include <catch2/catch.hpp>
@@ -15,9 +16,11 @@ namespace
 {
 
 std::vector<std::vector<Pair>> PairHistory(HarnessSettings s, int threads, Schedule schedule, int chunk,
-                                           int64_t& parallelCalls, bool queueMoves = false)
+                                           int64_t& parallelCalls, bool queueMoves = false,
+                                           const TaskSystem& tasks = TaskSystem{})
 {
     s.queueMoves = queueMoves;
+    s.config.taskSystem = tasks;
     s.config.threads = threads;
     s.config.schedule = schedule;
     s.config.chunk = chunk;
@@ -29,7 +32,134 @@ std::vector<std::vector<Pair>> PairHistory(HarnessSettings s, int threads, Sched
     return h.History();
 }
 
+// Task systems that run every range on the calling thread, in an order of their own, or that break the contract.
+struct InlineTasks
+{
+    enum class Mode
+    {
+        Reverse, // every item, one range per item, last item first
+        SkipOdd, // only the even items: a broken job system
+        Outside, // every item, plus one range past the end: a broken job system
+    };
+    Mode mode = Mode::Reverse;
+    int ranges = 0;
+
+    static void* Enqueue(TaskCallback* task, int itemCount, int minRange, void* context, void* user)
+    {
+        auto* self = static_cast<InlineTasks*>(user);
+        REQUIRE(minRange >= 1);
+        for (int i = itemCount - 1; i >= 0; --i)
+        {
+            if (self->mode != Mode::SkipOdd || i % 2 == 0)
+            {
+                task(i, i + 1, unsigned(i % 4), context);
+                ++self->ranges;
+            }
+        }
+        if (self->mode == Mode::Outside)
+        {
+            task(itemCount, itemCount + 2, 0u, context);
+        }
+        return self; // a handle: finishTask must be called with it
+    }
+    static void Finish(void* handle, void* user) { REQUIRE(handle == user); }
+
+    TaskSystem Get()
+    {
+        TaskSystem tasks;
+        tasks.enqueueTask = &Enqueue;
+        tasks.finishTask = &Finish;
+        tasks.workerCount = 4;
+        tasks.userContext = this;
+        return tasks;
+    }
+};
+
 } // namespace
+
+TEST_CASE("A task system's ranges, run in any order, give the serial loop's output", "[parallel][tasks]")
+{
+    HarnessSettings s;
+    s.seed = 94000u;
+    s.targetProxies = 800;
+    s.operations = 2500;
+    s.validateEvery = 2000;
+    int64_t parallelCalls = 0;
+    const std::vector<std::vector<Pair>> serial = PairHistory(s, 1, Schedule::Static, 0, parallelCalls);
+    REQUIRE(parallelCalls == 0);
+
+    InlineTasks tasks;
+    for (int threads : {0, 2, 4})
+    {
+        CAPTURE(threads);
+        tasks.ranges = 0;
+        const std::vector<std::vector<Pair>> onTasks =
+            PairHistory(s, threads, Schedule::Static, 0, parallelCalls, false, tasks.Get());
+        REQUIRE(onTasks == serial);
+        if (threads > 1)
+        {
+            CHECK(parallelCalls > 0);
+            CHECK(tasks.ranges > 0);
+        }
+    }
+}
+
+TEST_CASE("A task system that skips items or runs items out of range loses no pair and is reported",
+          "[parallel][tasks][errors]")
+{
+    HarnessSettings s;
+    s.seed = 94100u;
+    s.targetProxies = 800;
+    s.operations = 1500;
+    s.validateEvery = 1000;
+    int64_t parallelCalls = 0;
+    const std::vector<std::vector<Pair>> serial = PairHistory(s, 1, Schedule::Static, 0, parallelCalls);
+    for (InlineTasks::Mode mode : {InlineTasks::Mode::SkipOdd, InlineTasks::Mode::Outside})
+    {
+        CAPTURE(int(mode));
+        ErrorCounter errors;
+        InlineTasks tasks;
+        tasks.mode = mode;
+        const std::vector<std::vector<Pair>> onTasks =
+            PairHistory(s, 4, Schedule::Static, 0, parallelCalls, false, tasks.Get());
+        REQUIRE(parallelCalls > 0);
+        REQUIRE(onTasks == serial);
+        // Out of range: every call. Skipped odd items: the calls of two blocks or more.
+        if (mode == InlineTasks::Mode::Outside)
+        {
+            CHECK(errors.Count(ErrorCode::TaskSystemMisuse) == parallelCalls);
+        }
+        else
+        {
+            CHECK(errors.Count(ErrorCode::TaskSystemMisuse) > 0);
+            CHECK(errors.Count(ErrorCode::TaskSystemMisuse) <= parallelCalls);
+        }
+    }
+}
+
+TEST_CASE("A half-set task system is rejected with a clear error and changes nothing",
+          "[parallel][tasks][errors]")
+{
+    QuadtreeBroadPhase qt;
+    const ProxyId a = qt.CreateProxy(Box{0.0f, 0.0f, 1.0f, 1.0f}, nullptr);
+    Config config = qt.GetConfig();
+    InlineTasks inlineTasks;
+    const TaskSystem good = inlineTasks.Get();
+    TaskSystem noFinish = good;
+    noFinish.finishTask = nullptr;
+    TaskSystem noWorkers = good;
+    noWorkers.workerCount = 0;
+    for (const TaskSystem& bad : {noFinish, noWorkers})
+    {
+        config.taskSystem = bad;
+        REQUIRE_THROWS_AS(qt.Configure(config), std::invalid_argument);
+        REQUIRE_THROWS_WITH(QuadtreeBroadPhase(FatPolicy{}, config),
+                            Catch::Contains("enqueueTask, finishTask"));
+        CHECK(qt.GetConfig().taskSystem.enqueueTask == nullptr);
+    }
+    REQUIRE(qt.GetFatBox(a).maxX >= 1.0f);
+    REQUIRE(qt.Validate() == "");
+}
 
 TEST_CASE("Parallel FindPairs equals the serial loop at 1-4 threads under every schedule", "[parallel]")
 {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <map>
 #include <random>
 #include <set>
 #include <sstream>
@@ -71,30 +72,41 @@ public:
     ErrorCounter(const ErrorCounter&) = delete;
     ErrorCounter& operator=(const ErrorCounter&) = delete;
 
-    int Count(ErrorCode code) const { return m_counts[Slot(code)]; }
-    int Total() const { return m_counts[0] + m_counts[1] + m_counts[2] + m_counts[3]; }
+    int Count(ErrorCode code) const
+    {
+        const auto it = m_counts.find(code);
+        return it == m_counts.end() ? 0 : it->second;
+    }
+    int Total() const
+    {
+        int total = 0;
+        for (const auto& entry : m_counts)
+        {
+            total += entry.second;
+        }
+        return total;
+    }
     const std::string& LastMessage() const { return m_last; }
     ErrorCode LastCode() const { return m_lastCode; }
     void Reset()
     {
-        m_counts[0] = m_counts[1] = m_counts[2] = m_counts[3] = 0;
+        m_counts.clear();
         m_last.clear();
     }
 
 private:
     // The core's three codes, then one slot for every engine adapter code.
-    static int Slot(ErrorCode code) { return int(code) < 3 ? int(code) : 3; }
 
     static void Handle(ErrorCode code, const char* message, void* context)
     {
         ErrorCounter* self = static_cast<ErrorCounter*>(context);
-        self->m_counts[Slot(code)] += 1;
+        self->m_counts[code] += 1;
         self->m_last = message;
         self->m_lastCode = code;
     }
 
     quadphase::ErrorHandler m_previous = nullptr;
-    int m_counts[4] = {0, 0, 0, 0};
+    std::map<ErrorCode, int> m_counts;
     std::string m_last;
     ErrorCode m_lastCode = ErrorCode::FirstAdapterCode;
 };

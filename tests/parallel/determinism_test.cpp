@@ -1,5 +1,6 @@
-// Determinism of parallel pair generation: the same scene stepped with any thread count and any OpenMP schedule
-// gives bit-identical bodies, because FindPairs hands Box2D the same pairs in the same order.
+// Determinism of parallel pair generation: the same scene stepped with any thread count and any OpenMP schedule,
+// or on a game's job system with any worker count, gives bit-identical bodies, because FindPairs hands Box2D the
+// same pairs in the same order.
 #include <catch2/catch.hpp>
 
 #include <cstdint>
@@ -7,6 +8,7 @@
 #include <vector>
 
 #include "quadphase/box2d.h"
+#include "quadphase_jobs/job_system.h"
 #include "quadphase_scenes/scenes.h"
 
 namespace
@@ -29,10 +31,12 @@ int StepCount()
     return value != nullptr && std::atoi(value) > 0 ? std::atoi(value) : 600;
 }
 
-RunResult Run(SceneId id, int size, int threads, Schedule schedule, int chunk)
+RunResult Run(SceneId id, int size, int threads, Schedule schedule, int chunk,
+              const quadphase::TaskSystem& tasks = quadphase::TaskSystem{})
 {
     quadphase::scenes::Scene scene = quadphase::scenes::BuildScene(id, size, 7);
     quadphase::Config config = quadphase::GetConfig(*scene.world);
+    config.taskSystem = tasks;
     config.threads = threads;
     config.schedule = schedule;
     config.chunk = chunk;
@@ -90,4 +94,31 @@ TEST_CASE("bodies are bit-identical at 1-4 threads under every schedule", "[para
     // A second run of the same configuration gives the same state again.
     const RunResult again = Run(sceneCase.id, sceneCase.size, 2, Schedule::Dynamic, 1);
     CHECK((again.bodies == serial.bodies));
+}
+
+TEST_CASE("bodies are bit-identical on a game's job system at 1-4 workers", "[parallel][determinism][tasks]")
+{
+    const SceneId id = GENERATE(SceneId::Rain, SceneId::Particles);
+    CAPTURE(quadphase::scenes::SceneName(id));
+    const RunResult serial = Run(id, 1000, 1, Schedule::Static, 0);
+    REQUIRE(serial.pairs > 0);
+    for (int workers = 1; workers <= 4; ++workers)
+    {
+        CAPTURE(workers);
+        qpjobs::JobSystem jobs(workers);
+        // threads = 0: the defaults (serial in a scene this small); 4 asks for every worker.
+        for (int threads : {0, 4})
+        {
+            CAPTURE(threads);
+            const int64_t before = jobs.RangesOnPool();
+            const RunResult onJobs = Run(id, 1000, threads, Schedule::Static, 0, jobs.Tasks());
+            CHECK(onJobs.pairs == serial.pairs);
+            CHECK((onJobs.bodies == serial.bodies));
+            if (workers > 1 && threads == 4)
+            {
+                CHECK(onJobs.parallelCalls > 0);
+                CHECK(jobs.RangesOnPool() > before); // the pool's threads really searched
+            }
+        }
+    }
 }

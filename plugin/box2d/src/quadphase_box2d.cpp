@@ -28,6 +28,11 @@ void Configure(b2World& world, const Config& config)
     GetQuadtree(BroadPhaseOf(world)).Configure(config);
 }
 
+void SetTaskSystem(b2World& world, const TaskSystem& tasks)
+{
+    GetQuadtree(BroadPhaseOf(world)).SetTaskSystem(tasks);
+}
+
 Config GetConfig(const b2World& world)
 {
     return GetQuadtree(BroadPhaseOf(world)).GetConfig();

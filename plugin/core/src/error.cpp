@@ -75,6 +75,8 @@ const char* ErrorCodeName(ErrorCode code)
         return "inverted box";
     case ErrorCode::UnknownProxy:
         return "unknown proxy";
+    case ErrorCode::TaskSystemMisuse:
+        return "task system misuse";
     case ErrorCode::FirstAdapterCode:
         break;
     }

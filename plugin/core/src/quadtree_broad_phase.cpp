@@ -1,8 +1,10 @@
-// QuadtreeBroadPhase's proxies and settings: create, destroy, read, shift and configure. The other jobs have a file
+// QuadtreeBroadPhase's proxies and settings: create, destroy, read, shift, configure and the task system. The other jobs have a file
 // each: quadtree_move_queue.cpp, quadtree_pairs.cpp, quadtree_queries.cpp, quadtree_tuning.cpp, quadtree_checks.cpp.
 #include "quadphase/quadtree_broad_phase.h"
 
 #include <new>
+#include <stdexcept>
+#include <string>
 
 #include "quadphase/error.h"
 #include "quadtree_clock.h"
@@ -14,6 +16,21 @@ using detail::SecondsSince;
 
 namespace
 {
+
+// A task system is all or nothing: a half-set one would silently run serially, or call a null pointer.
+void CheckTaskSystem(const TaskSystem& tasks)
+{
+    const bool any = tasks.enqueueTask != nullptr || tasks.finishTask != nullptr;
+    if (any && (tasks.enqueueTask == nullptr || tasks.finishTask == nullptr || tasks.workerCount < 1))
+    {
+        throw std::invalid_argument(
+            "quadphase::Config::taskSystem: set enqueueTask, finishTask and workerCount >= 1 "
+            "together, or none of them (got enqueueTask " +
+            std::string(tasks.enqueueTask ? "set" : "null") + ", finishTask " +
+            std::string(tasks.finishTask ? "set" : "null") + ", workerCount " +
+            std::to_string(tasks.workerCount) + ")");
+    }
+}
 
 // Reports non-finite and inverted boxes. The box is stored anyway: Pyramid places any box somewhere (NaN maps to
 // cell 0), and Overlaps answers false for NaN, so a corrupted proxy gets no pairs and the others keep theirs.
@@ -47,7 +64,9 @@ void QuadtreeBroadPhase::CheckBox(const Box& b, const char* call, ProxyId id)
 QuadtreeBroadPhase::QuadtreeBroadPhase(const FatPolicy& policy, const Config& config)
     : m_policy(policy), m_config(config)
 {
+    CheckTaskSystem(config.taskSystem);
     Retune();
+    StartTeamIfDue();
 }
 
 ProxyId QuadtreeBroadPhase::CreateProxy(const Box& tight, void* userData)
@@ -92,6 +111,7 @@ ProxyId QuadtreeBroadPhase::CreateProxy(const Box& tight, void* userData)
         {
         }
     }
+    StartTeamIfDue();
     if (m_timing)
     {
         m_counters.updateSeconds += SecondsSince(start);
@@ -180,6 +200,7 @@ void QuadtreeBroadPhase::WriteMirrorOfAll()
 
 void QuadtreeBroadPhase::Configure(const Config& config)
 {
+    CheckTaskSystem(config.taskSystem);
     ApplyQueuedIfAny();
     const Config previous = m_config;
     m_config = config;
@@ -192,6 +213,18 @@ void QuadtreeBroadPhase::Configure(const Config& config)
         m_config = previous; // all or nothing
         throw;
     }
+    m_teamStarted = false; // the thread count or the executor may have changed
+    StartTeamIfDue();
+}
+
+void QuadtreeBroadPhase::SetTaskSystem(const TaskSystem& tasks)
+{
+    CheckTaskSystem(tasks);
+    m_config.taskSystem = tasks;
+    m_choice = ThreadChoice{}; // what OpenMP's team cost says nothing of the game's workers
+    m_aftermathSeconds = 0.0;
+    m_teamStarted = false;
+    StartTeamIfDue();
 }
 
 } // namespace quadphase

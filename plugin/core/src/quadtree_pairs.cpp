@@ -1,12 +1,14 @@
-// QuadtreeBroadPhase::FindPairs: one query per buffered proxy, serial or in fixed blocks on OpenMP threads, with the
-// same pairs in the same order either way.
+// QuadtreeBroadPhase::FindPairs: one query per buffered proxy, serial or in fixed blocks on OpenMP threads or the
+// game's task system, with the same pairs in the same order every way.
 #include "quadphase/quadtree_broad_phase.h"
 
 #include <algorithm>
 #include <atomic>
 #include <exception>
+#include <mutex>
 
 #include "quadphase/box_simd.h"
+#include "quadphase/error.h"
 #include "quadtree_clock.h"
 
 #include <omp.h>
@@ -40,7 +42,7 @@ void QuadtreeBroadPhase::FindPairs(std::vector<Pair>& out)
     // Below the threshold no parallel region can open (neither the queue's apply nor the search), so OpenMP is
     // not asked (omp_get_max_threads is a call into libgomp; most of Box2D's calls, after time-of-impact events
     // and on quiet scenes, are this small).
-    int threads = work >= int64_t(m_config.parallelThreshold) ? Threads() : 1;
+    int threads = work >= int64_t(m_config.parallelThreshold) && MayRunParallel() ? Threads() : 1;
     const bool eligible = m_config.threads == 0 && threads > 1 && work >= int64_t(m_config.parallelThreshold);
     // The queued moves applied since the last eligible call: the aftermath of that call's mode (see ThreadChoice).
     const double aftermath = m_aftermathSeconds;
@@ -112,57 +114,71 @@ void QuadtreeBroadPhase::FindPairsOfWork(std::vector<Pair>& out, int threads)
     }
 }
 
+void QuadtreeBroadPhase::StartTeam()
+{
+    m_teamStarted = true;
+    if (UsesTaskSystem())
+    {
+        return; // the game's workers exist already
+    }
+    const int threads = Threads();
+    if (threads > 1)
+    {
+        // A region that only counts its threads: libgomp creates the team here and keeps it for the later
+        // regions of the same size. (GCC drops a region with an empty body, threads and all.)
+        std::atomic<int> started{0};
+#pragma omp parallel num_threads(threads)
+        started.fetch_add(1, std::memory_order_relaxed);
+    }
+}
+
 int QuadtreeBroadPhase::Threads() const
 {
+    if (UsesTaskSystem())
+    {
+        const int workers = m_config.taskSystem.workerCount;
+        return m_config.threads > 0 ? std::min(m_config.threads, workers) : workers;
+    }
     return m_config.threads > 0 ? m_config.threads : omp_get_max_threads();
 }
 
-// The buffered proxies are cut into fixed blocks of kBlock queries, whatever the thread count. Each block writes
-// only its own vector, with no lock; the vectors are then joined in block order. The output is therefore the
-// serial loop's output, pair for pair and in the same order, at any thread count and under any schedule. During
-// the parallel loop the pyramid and the pool are only read.
-void QuadtreeBroadPhase::FindPairsParallel(std::vector<Pair>& out, int threads)
+// The buffered proxies are cut into fixed blocks of kBlock queries, whatever the thread count and whoever runs them
+// (OpenMP or the game's task system). Each block writes only its own vector, with no lock; the vectors are then
+// joined in block order. The output is therefore the serial loop's output, pair for pair and in the same order, at
+// any thread count, under any schedule and in any order the ranges run. During the search the pyramid and the pool
+// are only read.
+struct QuadtreeBroadPhase::BlockSearch
 {
-    constexpr int64_t kBlock = 64;
-    const int64_t count = int64_t(m_work.size());
-    const int64_t blocks = (count + kBlock - 1) / kBlock;
-    if (int64_t(m_blockPairs.size()) < blocks)
-    {
-        m_blockPairs.resize(size_t(blocks));
-    }
+    BlockSearch(QuadtreeBroadPhase* owner, int64_t blockCount) : self(owner), blocks(blockCount) {}
 
-    omp_sched_t previousKind;
-    int previousChunk;
-    omp_get_schedule(&previousKind, &previousChunk);
-    static constexpr omp_sched_t kKinds[] = {omp_sched_static, omp_sched_dynamic, omp_sched_guided,
-                                             omp_sched_auto};
-    omp_set_schedule(kKinds[int(m_config.schedule)], m_config.chunk);
-
-    // A block's pair list may grow, and an exception must not leave the region (that ends the program): the first
-    // one is kept and thrown again after the region, on the caller's thread.
+    QuadtreeBroadPhase* self;
+    int64_t blocks;
+    // A block's pair list may grow, and an exception must not leave a worker (OpenMP ends the program; a game's
+    // job system may not expect one): the first one is kept and thrown again on the caller's thread.
+    std::mutex errorMutex;
     std::exception_ptr error;
     std::atomic<bool> failed{false};
-#pragma omp parallel for schedule(runtime) num_threads(threads)
-    for (int64_t b = 0; b < blocks; ++b)
+    std::atomic<int64_t> outOfRange{0}; // items a task system handed over outside [0, blocks)
+
+    void Run(int64_t b)
     {
+        if (b < 0 || b >= blocks)
+        {
+            outOfRange.fetch_add(1, std::memory_order_relaxed);
+            return;
+        }
         if (failed.load(std::memory_order_relaxed))
         {
-            continue;
+            return;
         }
         try
         {
-            std::vector<Pair>& pairs = m_blockPairs[size_t(b)];
-            pairs.clear();
-            const int64_t end = std::min(count, (b + 1) * kBlock);
-            for (int64_t i = b * kBlock; i < end; ++i)
-            {
-                QueryPairsOf(m_work[size_t(i)], pairs);
-            }
+            self->SearchBlock(b);
         }
         catch (...)
         {
-#pragma omp critical(quadphase_find_pairs_error)
             {
+                std::lock_guard<std::mutex> lock(errorMutex);
                 if (!error)
                 {
                     error = std::current_exception();
@@ -172,10 +188,50 @@ void QuadtreeBroadPhase::FindPairsParallel(std::vector<Pair>& out, int threads)
         }
     }
 
-    omp_set_schedule(previousKind, previousChunk); // the schedule ICV belongs to the caller's thread
-    if (error)
+    static void Task(int startIndex, int endIndex, unsigned /*workerIndex*/, void* context)
     {
-        std::rethrow_exception(error);
+        auto* search = static_cast<BlockSearch*>(context);
+        for (int64_t b = startIndex; b < int64_t(endIndex); ++b)
+        {
+            search->Run(b);
+        }
+    }
+};
+
+void QuadtreeBroadPhase::SearchBlock(int64_t b)
+{
+    const int64_t count = int64_t(m_work.size());
+    std::vector<Pair>& pairs = m_blockPairs[size_t(b)];
+    pairs.clear();
+    const int64_t end = std::min(count, (b + 1) * kBlock);
+    for (int64_t i = b * kBlock; i < end; ++i)
+    {
+        QueryPairsOf(m_work[size_t(i)], pairs);
+    }
+    m_blockDone[size_t(b)] = 1;
+}
+
+void QuadtreeBroadPhase::FindPairsParallel(std::vector<Pair>& out, int threads)
+{
+    const int64_t count = int64_t(m_work.size());
+    const int64_t blocks = (count + kBlock - 1) / kBlock;
+    if (int64_t(m_blockPairs.size()) < blocks)
+    {
+        m_blockPairs.resize(size_t(blocks));
+    }
+    m_blockDone.assign(size_t(blocks), 0);
+    BlockSearch search(this, blocks);
+    if (UsesTaskSystem())
+    {
+        RunOnTaskSystem(search);
+    }
+    else
+    {
+        RunOnOpenMP(search, threads);
+    }
+    if (search.error)
+    {
+        std::rethrow_exception(search.error);
     }
     size_t total = out.size();
     for (int64_t b = 0; b < blocks; ++b)
@@ -187,6 +243,57 @@ void QuadtreeBroadPhase::FindPairsParallel(std::vector<Pair>& out, int threads)
     {
         const std::vector<Pair>& pairs = m_blockPairs[size_t(b)];
         out.insert(out.end(), pairs.begin(), pairs.end());
+    }
+}
+
+void QuadtreeBroadPhase::RunOnOpenMP(BlockSearch& search, int threads)
+{
+    omp_sched_t previousKind;
+    int previousChunk;
+    omp_get_schedule(&previousKind, &previousChunk);
+    static constexpr omp_sched_t kKinds[] = {omp_sched_static, omp_sched_dynamic, omp_sched_guided,
+                                             omp_sched_auto};
+    omp_set_schedule(kKinds[int(m_config.schedule)], m_config.chunk);
+    const int64_t blocks = search.blocks;
+#pragma omp parallel for schedule(runtime) num_threads(threads)
+    for (int64_t b = 0; b < blocks; ++b)
+    {
+        search.Run(b);
+    }
+    omp_set_schedule(previousKind, previousChunk); // the schedule ICV belongs to the caller's thread
+}
+
+// A game's job system is not ours to trust blindly: a block it skipped or ran outside the range is reported and
+// searched on the caller's thread, so that no pair is lost whatever it does.
+void QuadtreeBroadPhase::RunOnTaskSystem(BlockSearch& search)
+{
+    const TaskSystem& tasks = m_config.taskSystem;
+    void* handle = tasks.enqueueTask(&BlockSearch::Task, int(search.blocks), 1, &search, tasks.userContext);
+    if (handle != nullptr)
+    {
+        tasks.finishTask(handle, tasks.userContext);
+    }
+    if (search.failed.load(std::memory_order_relaxed))
+    {
+        return;
+    }
+    int64_t missed = 0;
+    for (int64_t b = 0; b < search.blocks; ++b)
+    {
+        if (m_blockDone[size_t(b)] == 0)
+        {
+            ++missed;
+            search.Run(b);
+        }
+    }
+    const int64_t outside = search.outOfRange.load(std::memory_order_relaxed);
+    if (missed > 0 || outside > 0)
+    {
+        ReportError(
+            ErrorCode::TaskSystemMisuse,
+            "FindPairs: the task system ran %lld of %lld items outside [0, %lld) and skipped %lld (searched "
+            "on the calling thread)",
+            (long long)outside, (long long)search.blocks, (long long)search.blocks, (long long)missed);
     }
 }
 

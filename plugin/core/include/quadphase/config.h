@@ -2,6 +2,7 @@
 #pragma once
 
 #include "quadphase/box.h"
+#include "quadphase/task_system.h"
 
 namespace quadphase
 {
@@ -51,6 +52,22 @@ struct Config
     /// region costs a few microseconds, more than the queries of a small scene or of a time-of-impact update.
     /// Chosen from bench/ measurements; see docs/design.md, "Parallel pair generation".
     int parallelThreshold = 128;
+
+    /// With threads == 0 (the default), pair generation goes parallel only while the broadphase holds at least
+    /// this many proxies; below it every call is serial and no thread is started. In the last quiet full run
+    /// (bench/RESULTS.md, b2Profile::broadphase, 1 against 2 threads) two threads paid from particles 20,000 and rain
+    /// 32,000 on, and lost or tied below (particles 10,000, rain 16,000, pyramid 60, mixed 3,000, churn 8,000), while
+    /// a small scene paid for starting the team and for probing the parallel path in its first steps (see
+    /// docs/design.md, "Defaults"). Once a broadphase reaches it, OpenMP's team is started at once, in
+    /// CreateProxy or Configure (between steps in Box2D), so that no step pays for creating threads.
+    /// Explicit thread counts (threads > 0) ignore it.
+    int parallelMinProxies = 16384;
+
+    /// The game's job system (see quadphase/task_system.h). When set, parallel pair generation runs on it and
+    /// quadphase makes no OpenMP call; `threads` then counts the game's workers (0: up to taskSystem.workerCount,
+    /// chosen by measurement as for OpenMP; N > 0: min(N, workerCount)), and `schedule` and `chunk` do not apply.
+    /// Empty by default: OpenMP. Configure rejects a half-set one (std::invalid_argument).
+    TaskSystem taskSystem;
 };
 
 /// Deepest pyramid allowed: 4^12 leaf cells already cost hundreds of MB.

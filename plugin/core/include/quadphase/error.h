@@ -4,14 +4,15 @@
 namespace quadphase
 {
 
-/// What went wrong. The core reports the first three. An engine adapter defines its own codes, from
+/// What went wrong. The core reports the first four. An engine adapter defines its own codes, from
 /// FirstAdapterCode up, beside the code that reports them (the Box2D adapter: kValidationMismatch in
 /// quadphase/shadow_validator.h); they reach the same handler.
 enum class ErrorCode
 {
-    NonFiniteBox,          ///< a box with NaN or infinite coordinates was given to CreateProxy or MoveProxy
-    InvertedBox,           ///< a box with min > max on an axis was given to CreateProxy or MoveProxy
-    UnknownProxy,          ///< an id that is out of range or already destroyed was given
+    NonFiniteBox,     ///< a box with NaN or infinite coordinates was given to CreateProxy or MoveProxy
+    InvertedBox,      ///< a box with min > max on an axis was given to CreateProxy or MoveProxy
+    UnknownProxy,     ///< an id that is out of range or already destroyed was given
+    TaskSystemMisuse, ///< the game's task system skipped items or ran items outside the range it was given
     FirstAdapterCode = 64, ///< the first code an engine adapter may define
 };
 

@@ -134,6 +134,11 @@ public:
     void Configure(const Config& config);
     const Config& GetConfig() const { return m_config; }
 
+    /// Runs parallel pair generation on the game's job system from the next FindPairs on (an empty TaskSystem{}
+    /// goes back to OpenMP), without the rebuild Configure makes. The measured serial/parallel choice starts
+    /// afresh. Throws std::invalid_argument, changing nothing, for a half-set one (see TaskSystem).
+    void SetTaskSystem(const TaskSystem& tasks);
+
     /// A snapshot of shape and work counters. O(cells) for the occupancy fields. Safe beside concurrent const
     /// calls: it takes the lock under which they apply queued moves.
     Stats GetStats() const;
@@ -222,8 +227,30 @@ private:
     void QueryPairsOf(ProxyId q, std::vector<Pair>& out) const;
     void UpdateStaleEntries(std::chrono::steady_clock::time_point* now = nullptr); // `now` as in ApplyQueued
     int Threads() const;
+    // Whether a FindPairs call may go parallel at all: an explicit thread count, or a scene of
+    // Config::parallelMinProxies proxies.
+    bool MayRunParallel() const
+    {
+        return m_config.threads > 1 ||
+               (m_config.threads == 0 && m_pool.LiveCount() >= m_config.parallelMinProxies);
+    }
+    // Starts OpenMP's team the first time MayRunParallel() holds, so that no FindPairs pays for creating it.
+    void StartTeamIfDue()
+    {
+        if (!m_teamStarted && MayRunParallel())
+        {
+            StartTeam();
+        }
+    }
+    void StartTeam();
+    bool UsesTaskSystem() const { return m_config.taskSystem.enqueueTask != nullptr; }
     void FindPairsParallel(std::vector<Pair>& out, int threads);
     class RayCaster; // one RayCast call (quadtree_queries.cpp)
+    struct BlockSearch;
+    static constexpr int64_t kBlock = 64; // queries per block of a parallel search
+    void SearchBlock(int64_t b);
+    void RunOnOpenMP(BlockSearch& search, int threads);
+    void RunOnTaskSystem(BlockSearch& search);
 
     FatPolicy m_policy;
     Config m_config;
@@ -254,12 +281,14 @@ private:
     // proxies whose fat box changed since their cell entry was written (see MoveProxy)
     std::vector<ProxyId> m_stale;
     std::vector<std::vector<Pair>> m_blockPairs; // parallel FindPairs: the pairs of each block of m_work
+    std::vector<uint8_t> m_blockDone;            // parallel FindPairs: 1 once a block was searched
     int32_t m_tunedCount = 0;                    // live proxies at the last automatic tuning
     int32_t m_tunedOutside = 0; // proxies outside the bounds right after the last automatic tuning
     ThreadChoice m_choice;      // Config::threads == 0: serial or parallel FindPairs calls
     // Seconds spent applying queued moves since the last FindPairs that consulted m_choice: the part of a mode's
     // window (see ThreadChoice) that lies outside the calls.
     double m_aftermathSeconds = 0.0;
+    bool m_teamStarted = false; // StartTeam ran (or a task system made it unnecessary)
     // Counts calls that changed proxies or entries (create, destroy, move, queue applied, rebuild). Query and
     // RayCast compare it before and after their callbacks: unchanged means every collected candidate is still
     // what it was, so the re-entrancy checks cost nothing in the common case.
