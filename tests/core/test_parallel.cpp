@@ -75,15 +75,22 @@ struct InlineTasks
     }
 };
 
+// 800 proxies: several blocks of 64 buffered proxies per FindPairs.
+HarnessSettings TaskCase(uint32_t seed, int operations)
+{
+    HarnessSettings s;
+    s.seed = seed;
+    s.targetProxies = 800;
+    s.operations = operations;
+    s.validateEvery = operations - 500;
+    return s;
+}
+
 } // namespace
 
 TEST_CASE("A task system's ranges, run in any order, give the serial loop's output", "[parallel][tasks]")
 {
-    HarnessSettings s;
-    s.seed = 94000u;
-    s.targetProxies = 800;
-    s.operations = 2500;
-    s.validateEvery = 2000;
+    const HarnessSettings s = TaskCase(94000u, 2500);
     int64_t parallelCalls = 0;
     const std::vector<std::vector<Pair>> serial = PairHistory(s, 1, Schedule::Static, 0, parallelCalls);
     REQUIRE(parallelCalls == 0);
@@ -107,11 +114,7 @@ TEST_CASE("A task system's ranges, run in any order, give the serial loop's outp
 TEST_CASE("A task system that skips items or runs items out of range loses no pair and is reported",
           "[parallel][tasks][errors]")
 {
-    HarnessSettings s;
-    s.seed = 94100u;
-    s.targetProxies = 800;
-    s.operations = 1500;
-    s.validateEvery = 1000;
+    const HarnessSettings s = TaskCase(94100u, 1500);
     int64_t parallelCalls = 0;
     const std::vector<std::vector<Pair>> serial = PairHistory(s, 1, Schedule::Static, 0, parallelCalls);
     for (InlineTasks::Mode mode : {InlineTasks::Mode::SkipOdd, InlineTasks::Mode::Outside})
