@@ -10,7 +10,9 @@
 // - a pile of boxes, whose contacts are not compared (the pair order steers the solver, so the two runs diverge):
 //   with QUADPHASE_VALIDATE=1 the quadphase run checks every UpdatePairs against a shadow tree instead;
 // - "inline ...": stock's inline b2BroadPhase functions compiled into this program (GetUserData, GetFatAABB,
-//   TestOverlap, GetProxyCount, GetTreeHeight) read valid values on either library.
+//   TestOverlap, GetProxyCount, GetTreeHeight) read valid values on either library;
+// - "edges ...": those inline readers right after CreateProxy, MoveProxy, TouchProxy, DestroyProxy and ShiftOrigin
+//   (through b2Body and b2World calls), before any Step: they must read what stock's tree holds at that moment.
 // Exit status 1 when an inline check fails. Built twice: as is, and with -O0 -fno-inline -rdynamic, which puts
 // out-of-line copies of stock's inline functions in the executable's dynamic symbol table (the interposition probe).
 #include <box2d/box2d.h>
@@ -314,6 +316,93 @@ void PileScene()
     CheckInline("pile", world, false);
 }
 
+// Stock's inline readers (GetFatAABB, GetUserData, TestOverlap) right after each kind of call that changes a proxy,
+// before anything (a Step, a query) would let a lazy broadphase catch up: "edges <when> ..." lines, one per proxy,
+// keyed by fixture index and child (proxy ids differ between the libraries: stock's tree numbers its inner nodes
+// among the proxies), with the fat AABB's exact bits and which other proxies' fat AABBs it overlaps.
+void PrintReaders(const char* when, b2World& world)
+{
+    const b2BroadPhase& bp = world.GetContactManager().m_broadPhase;
+    std::vector<std::pair<std::pair<uint64_t, int32>, int32>> ids; // ((fixture index, child), proxy id)
+    // Stops at the last proxy: stock's GetUserData does not check the id against the node array's size.
+    for (int32 id = 0; int32(ids.size()) < bp.GetProxyCount() && id < 4 * bp.GetProxyCount() + 16; ++id)
+    {
+        const b2FixtureProxy* proxy = static_cast<const b2FixtureProxy*>(bp.GetUserData(id));
+        // A destroyed proxy's record may keep its user data on stock (a freed node), with proxyId reset.
+        if (proxy != nullptr && proxy->proxyId == id)
+        {
+            ids.push_back(std::make_pair(std::make_pair(Index(proxy->fixture), proxy->childIndex), id));
+        }
+    }
+    std::sort(ids.begin(), ids.end());
+    Check(int32(ids.size()) == bp.GetProxyCount(), "every proxy is found through GetUserData",
+          long(ids.size()));
+    for (size_t i = 0; i < ids.size(); ++i)
+    {
+        const b2AABB fat = bp.GetFatAABB(ids[i].second);
+        std::printf("edges %s f%d.%d [%a %a %a %a] overlaps", when, int(ids[i].first.first),
+                    int(ids[i].first.second), double(fat.lowerBound.x), double(fat.lowerBound.y),
+                    double(fat.upperBound.x), double(fat.upperBound.y));
+        for (size_t j = 0; j < ids.size(); ++j)
+        {
+            if (j != i && bp.TestOverlap(ids[i].second, ids[j].second))
+            {
+                std::printf(" f%d.%d", int(ids[j].first.first), int(ids[j].first.second));
+            }
+        }
+        std::printf("\n");
+    }
+}
+
+void EdgeScene()
+{
+    b2World world(b2Vec2(0.0f, 0.0f));
+    uint64_t next = 0;
+    b2PolygonShape box;
+    box.SetAsBox(0.5f, 0.5f);
+    b2CircleShape circle;
+    circle.m_radius = 0.75f;
+    b2Body* a = AddBody(world, b2_dynamicBody, 0.0f, 0.0f, next);
+    AddFixture(a, box, false, next);
+    b2Body* b = AddBody(world, b2_dynamicBody, 3.0f, 0.0f, next);
+    AddFixture(b, circle, true, next);
+    b2Body* ground = AddBody(world, b2_staticBody, 0.0f, -2.0f, next);
+    b2Vec2 points[4] = {b2Vec2(-10.0f, 0.0f), b2Vec2(0.0f, 0.5f), b2Vec2(10.0f, 0.0f), b2Vec2(30.0f, 1.0f)};
+    b2ChainShape chain;
+    chain.CreateChain(points, 4, points[0], points[3]);
+    AddFixture(ground, chain, false, next);
+    PrintReaders("created", world);
+    world.Step(1.0f / 60.0f, 8, 3);
+    PrintReaders("stepped", world);
+    // CreateProxy between steps.
+    b2Body* c = AddBody(world, b2_dynamicBody, 27.0f, 0.5f, next);
+    AddFixture(c, box, false, next);
+    PrintReaders("created-between-steps", world);
+    // MoveProxy through b2Body::SetTransform: far (a new fat box), then onto c (TestOverlap turns true).
+    a->SetTransform(b2Vec2(27.0f, 0.0f), 0.0f);
+    PrintReaders("teleported", world);
+    // A small move inside the fat box (the stored box stays), and a move that shrinks nothing.
+    b->SetTransform(b2Vec2(3.05f, 0.0f), 0.0f);
+    PrintReaders("nudged", world);
+    // Moved twice before anything reads the broadphase through the library.
+    b->SetTransform(b2Vec2(-8.0f, 4.0f), 0.5f);
+    b->SetTransform(b2Vec2(-8.5f, 4.0f), 0.7f);
+    PrintReaders("moved-twice", world);
+    // TouchProxy (b2Fixture::Refilter) after a move.
+    a->SetTransform(b2Vec2(20.0f, 1.0f), 1.0f);
+    a->GetFixtureList()->Refilter();
+    PrintReaders("touched", world);
+    // Destroyed and created again (b2Body::SetEnabled), then the origin shifts with a move still pending.
+    b->SetEnabled(false);
+    PrintReaders("disabled", world);
+    b->SetEnabled(true);
+    c->SetTransform(b2Vec2(-3.0f, -1.0f), 0.0f);
+    world.ShiftOrigin(b2Vec2(5.0f, -2.0f));
+    PrintReaders("shifted", world);
+    world.Step(1.0f / 60.0f, 8, 3);
+    PrintReaders("stepped-again", world);
+}
+
 void PrintLibrary()
 {
     Dl_info info;
@@ -332,6 +421,7 @@ void PrintLibrary()
 int main()
 {
     PrintLibrary();
+    EdgeScene();
     SensorScene();
     PileScene();
     std::printf("inline failures %d\n", g_failures);

@@ -39,6 +39,9 @@ quadphase::Box ToBox(const b2AABB& a)
 
 // The core's query callback type is the adapter's: the thunks pass straight through.
 static_assert(std::is_same<int32, quadphase::ProxyId>::value, "Box2D's int32 must be quadphase's ProxyId");
+static_assert(sizeof(b2AABB) == sizeof(quadphase::Box) &&
+                  offsetof(b2AABB, upperBound) == offsetof(quadphase::Box, maxX),
+              "b2AABB and quadphase::Box must both be minX, minY, maxX, maxY");
 
 // Process-wide validation totals (see AddValidationTotals).
 std::atomic<int64_t> g_validatedChecks{0};
@@ -232,6 +235,19 @@ void b2BroadPhase::MoveProxy(int32 proxyId, const b2AABB& aabb, const b2Vec2& di
     // Queued: Box2D moves its bodies one by one on this thread; the fat-AABB tests run as one batch, in UpdatePairs
     // or when the queue is full.
     state.core.QueueMove(proxyId, ToBox(aabb), {displacement.x, displacement.y});
+    // The record gets the move's outcome now, as stock's tree does inside MoveProxy, so that stock's inline
+    // GetFatAABB and TestOverlap, compiled into a program, never read a box the core has not applied yet. The record
+    // is the fat box after every earlier move (the core applies its queue before a proxy's second move), so the
+    // same test on it gives, bit for bit, the box the core writes again when it applies this move.
+    if (proxyId >= 0 && proxyId < m_tree.nodeCapacity && m_tree.nodes[proxyId].height == 0)
+    {
+        // The core's branch-free test (SSE where available), then one 16-byte store, changed or not.
+        b2AABB& record = m_tree.nodes[proxyId].aabb;
+        quadphase::Box stored;
+        std::memcpy(&stored, static_cast<const void*>(&record), sizeof stored);
+        quadphase::RefattenSimd(Box2DFatPolicy(), stored, ToBox(aabb), {displacement.x, displacement.y});
+        std::memcpy(static_cast<void*>(&record), &stored, sizeof stored);
+    }
     if (state.shadow && state.core.GetPool().IsLive(proxyId))
     {
         state.shadow->OnMove(proxyId, aabb, displacement);
@@ -269,28 +285,6 @@ bool b2BroadPhase::QueryCallback(int32)
     // copy of that template walks m_tree, whose root is b2_nullNode here, so this is never reached; answering
     // true (go on) keeps such a walk harmless if it were.
     return true;
-}
-
-const b2AABB& b2BroadPhase::GetFatAABB(int32 proxyId) const
-{
-    // GetFatBox applies queued moves (so the record is current) and reports an unknown id.
-    State(m_state).core.GetFatBox(proxyId);
-    if (proxyId < 0 || proxyId >= m_tree.nodeCapacity)
-    {
-        static const b2AABB empty = {{0.0f, 0.0f}, {0.0f, 0.0f}};
-        return empty;
-    }
-    return m_tree.nodes[proxyId].aabb;
-}
-
-void* b2BroadPhase::GetUserData(int32 proxyId) const
-{
-    return State(m_state).core.GetUserData(proxyId);
-}
-
-bool b2BroadPhase::TestOverlap(int32 proxyIdA, int32 proxyIdB) const
-{
-    return State(m_state).core.TestOverlap(proxyIdA, proxyIdB);
 }
 
 void b2BroadPhase::UpdatePairsWith(b2AddPairThunk thunk, void* callback)
@@ -343,28 +337,6 @@ void b2BroadPhase::RayCastWith(b2RayCastThunk thunk, void* callback, const b2Ray
     RayCastBridge bridge{thunk, callback, input};
     const quadphase::RayInput in{{input.p1.x, input.p1.y}, {input.p2.x, input.p2.y}, input.maxFraction};
     State(m_state).core.RayCast(in, &RayCastBridge::Call, &bridge);
-}
-
-int32 b2BroadPhase::GetTreeHeight() const
-{
-    return State(m_state).core.GetPyramid().Depth();
-}
-
-int32 b2BroadPhase::GetTreeBalance() const
-{
-    int64_t occupied = 0;
-    int64_t largest = 0;
-    State(m_state).core.GetPyramid().CountOccupancy(occupied, largest);
-    return int32(largest);
-}
-
-float b2BroadPhase::GetTreeQuality() const
-{
-    const BroadPhaseState& state = State(m_state);
-    int64_t occupied = 0;
-    int64_t largest = 0;
-    state.core.GetPyramid().CountOccupancy(occupied, largest);
-    return occupied > 0 ? float(state.core.GetProxyCount()) / float(occupied) : 0.0f;
 }
 
 void b2BroadPhase::ShiftOrigin(const b2Vec2& newOrigin)
