@@ -62,6 +62,7 @@ int main()
     Check(stats.proxyCount == 21 && tree.GetProxyCount() == 21, "21 proxies");
     // Box2D calls UpdatePairs once per step, and again after time-of-impact events.
     Check(report.checks >= 60 && report.mismatches == 0, "validation checked every step, no mismatch");
-    Check(trace.UpdatePairsCount() == report.checks, "the trace recorded every UpdatePairs validation checked");
+    Check(trace.UpdatePairsCount() == report.checks,
+          "the trace recorded every UpdatePairs validation checked");
     return g_failures == 0 ? 0 : 1;
 }
