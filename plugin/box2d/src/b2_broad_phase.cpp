@@ -12,6 +12,7 @@
 
 #include "broad_phase_state.h"
 #include "quadphase/box2d.h"
+#include "validation_log.h"
 
 using quadphase::detail::BroadPhaseState;
 
@@ -53,6 +54,7 @@ void PrintValidationSummary()
     std::fprintf(stderr, "quadphase: validation: %lld UpdatePairs checked, %lld mismatches\n",
                  static_cast<long long>(g_validatedChecks.load()),
                  static_cast<long long>(g_validationMismatches.load()));
+    quadphase::detail::LogValidationTotals(g_validatedChecks.load(), g_validationMismatches.load(), true);
 }
 
 BroadPhaseState& State(void* state)
@@ -94,8 +96,12 @@ const BroadPhaseState& StateOf(const b2BroadPhase& broadPhase)
 
 void AddValidationTotals(const ValidationReport& report)
 {
-    g_validatedChecks += report.checks;
-    g_validationMismatches += report.mismatches;
+    const int64_t checks = g_validatedChecks += report.checks;
+    const int64_t mismatches = g_validationMismatches += report.mismatches;
+    if (report.checks != 0 || report.mismatches != 0)
+    {
+        LogValidationTotals(checks, mismatches, false);
+    }
 }
 
 } // namespace detail

@@ -35,7 +35,8 @@ const BroadPhaseState& StateOf(const b2BroadPhase& broadPhase);
 
 /// Validation totals of every broadphase of the process, printed to stderr at exit once validation ran:
 /// "quadphase: validation: N UpdatePairs checked, M mismatches". Called when a validator is destroyed, and at
-/// exit for those still alive.
+/// exit for those still alive; with QUADPHASE_VALIDATE_LOG, also appended to that file as they grow
+/// (validation_log.h).
 void AddValidationTotals(const ValidationReport& report);
 
 } // namespace detail

@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "quadphase/error.h"
+#include "validation_log.h"
 
 namespace quadphase
 {
@@ -120,6 +121,8 @@ void ShadowValidator::Mismatch(const std::string& what)
     {
         m_report.firstMismatch = what;
     }
+    detail::LogValidationMismatch(
+        what); // QUADPHASE_VALIDATE_LOG: in the file before anything else can happen
     ReportError(ErrorCode::ValidationMismatch, "%s", what.c_str());
 }
 
