@@ -11,6 +11,8 @@
 //   with QUADPHASE_VALIDATE=1 the quadphase run checks every UpdatePairs against a shadow tree instead;
 // - "inline ...": stock's inline b2BroadPhase functions compiled into this program (GetUserData, GetFatAABB,
 //   TestOverlap, GetProxyCount, GetTreeHeight) read valid values on either library;
+// - "templates ...": stock's inline UpdatePairs, Query and RayCast templates and tree statistics on a b2BroadPhase
+//   of the program's own (stock's answers on quadphase's library with QUADPHASE_STOCK_TREE=1 only);
 // - "edges ...": those inline readers right after CreateProxy, MoveProxy, TouchProxy, DestroyProxy and ShiftOrigin
 //   (through b2Body and b2World calls), before any Step: they must read what stock's tree holds at that moment.
 // Exit status 1 when an inline check fails. Built twice: as is, and with -O0 -fno-inline -rdynamic, which puts
@@ -284,6 +286,9 @@ void SensorScene()
             std::printf("sensors queries step %d hash %016" PRIx64 "\n", step, q.value);
         }
     }
+    // b2World's tree statistics (the library's, through b2BroadPhase's inline ones): stock's tree's, or 0.
+    std::printf("templates sensors world tree height %d balance %d quality %a\n", world.GetTreeHeight(),
+                world.GetTreeBalance(), double(world.GetTreeQuality()));
 }
 
 void PileScene()
@@ -403,6 +408,129 @@ void EdgeScene()
     PrintReaders("stepped-again", world);
 }
 
+#ifndef SWAP_PROBE_NO_TEMPLATES
+// Stock's inline templates (UpdatePairs, Query, RayCast) and tree statistics of a b2BroadPhase the program drives
+// itself: "templates ..." lines. On quadphase's library they give stock's answers with QUADPHASE_STOCK_TREE=1 only
+// (docs/design.md, "Binary compatibility"). Not in the reverse build: quadphase's header makes these templates call
+// the library's QueryWith, RayCastWith and UpdatePairsWith, which stock's library lacks.
+struct PairCollector
+{
+    std::vector<std::pair<uintptr_t, uintptr_t>> pairs;
+    void AddPair(void* a, void* b)
+    {
+        uintptr_t x = reinterpret_cast<uintptr_t>(a);
+        uintptr_t y = reinterpret_cast<uintptr_t>(b);
+        pairs.push_back(std::make_pair(std::min(x, y), std::max(x, y)));
+    }
+};
+
+struct HitCollector
+{
+    const b2BroadPhase* bp;
+    std::vector<uintptr_t> hits;
+    bool QueryCallback(int32 id)
+    {
+        hits.push_back(reinterpret_cast<uintptr_t>(bp->GetUserData(id)));
+        return true;
+    }
+    float RayCastCallback(const b2RayCastInput& input, int32 id)
+    {
+        hits.push_back(reinterpret_cast<uintptr_t>(bp->GetUserData(id)));
+        return input.maxFraction;
+    }
+};
+
+void PrintPairs(const char* when, b2BroadPhase& bp)
+{
+    PairCollector collector;
+    bp.UpdatePairs(&collector);
+    std::sort(collector.pairs.begin(), collector.pairs.end());
+    collector.pairs.erase(std::unique(collector.pairs.begin(), collector.pairs.end()), collector.pairs.end());
+    Hash h;
+    for (size_t i = 0; i < collector.pairs.size(); ++i)
+    {
+        h.Add(collector.pairs[i].first);
+        h.Add(collector.pairs[i].second);
+    }
+    std::printf("templates %s UpdatePairs %zu pairs hash %016" PRIx64 "\n", when, collector.pairs.size(),
+                h.value);
+}
+
+void TemplateScene()
+{
+    b2BroadPhase bp;
+    std::vector<int32> ids;
+    for (int i = 0; i < 300; ++i)
+    {
+        b2AABB box;
+        box.lowerBound.Set(Uniform(-40.0f, 40.0f), Uniform(-40.0f, 40.0f));
+        box.upperBound = box.lowerBound + b2Vec2(Uniform(0.2f, 3.0f), Uniform(0.2f, 3.0f));
+        ids.push_back(bp.CreateProxy(box, reinterpret_cast<void*>(uintptr_t(i + 1))));
+    }
+    PrintPairs("created", bp);
+    for (int round = 0; round < 5; ++round)
+    {
+        for (int k = 0; k < 60; ++k)
+        {
+            const int32 id = ids[size_t((round * 61 + k * 7) % 300)];
+            if (id == b2BroadPhase::e_nullProxy)
+            {
+                continue;
+            }
+            const b2AABB& fat = bp.GetFatAABB(id);
+            const b2Vec2 d(Uniform(-1.5f, 1.5f), Uniform(-1.5f, 1.5f));
+            b2AABB box;
+            box.lowerBound = fat.lowerBound + b2Vec2(0.1f, 0.1f) + d;
+            box.upperBound = fat.upperBound - b2Vec2(0.1f, 0.1f) + d;
+            bp.MoveProxy(id, box, d);
+        }
+        bp.TouchProxy(ids[size_t(round * 13 + 1)]);
+        const size_t destroyed = size_t(round * 17 + 5);
+        if (ids[destroyed] != b2BroadPhase::e_nullProxy)
+        {
+            bp.DestroyProxy(ids[destroyed]);
+            ids[destroyed] = b2BroadPhase::e_nullProxy;
+        }
+        PrintPairs("moved", bp);
+    }
+    Hash q;
+    for (int i = 0; i < 30; ++i)
+    {
+        HitCollector hits;
+        hits.bp = &bp;
+        b2AABB box;
+        box.lowerBound.Set(Uniform(-45.0f, 40.0f), Uniform(-45.0f, 40.0f));
+        box.upperBound = box.lowerBound + b2Vec2(Uniform(0.5f, 12.0f), Uniform(0.5f, 12.0f));
+        bp.Query(&hits, box);
+        std::sort(hits.hits.begin(), hits.hits.end());
+        for (size_t k = 0; k < hits.hits.size(); ++k)
+        {
+            q.Add(hits.hits[k]);
+        }
+        q.Add(~uint64_t(0));
+    }
+    for (int i = 0; i < 30; ++i)
+    {
+        HitCollector hits;
+        hits.bp = &bp;
+        b2RayCastInput input;
+        input.p1.Set(Uniform(-50.0f, 50.0f), Uniform(-50.0f, 50.0f));
+        input.p2.Set(Uniform(-50.0f, 50.0f), Uniform(-50.0f, 50.0f));
+        input.maxFraction = 1.0f;
+        bp.RayCast(&hits, input);
+        std::sort(hits.hits.begin(), hits.hits.end());
+        for (size_t k = 0; k < hits.hits.size(); ++k)
+        {
+            q.Add(hits.hits[k]);
+        }
+        q.Add(~uint64_t(0));
+    }
+    std::printf("templates Query and RayCast hash %016" PRIx64 "\n", q.value);
+    std::printf("templates tree height %d balance %d quality %a\n", bp.GetTreeHeight(), bp.GetTreeBalance(),
+                double(bp.GetTreeQuality()));
+}
+#endif
+
 void PrintLibrary()
 {
     Dl_info info;
@@ -422,6 +550,9 @@ int main()
 {
     PrintLibrary();
     EdgeScene();
+#ifndef SWAP_PROBE_NO_TEMPLATES
+    TemplateScene();
+#endif
     SensorScene();
     PileScene();
     std::printf("inline failures %d\n", g_failures);

@@ -187,8 +187,9 @@ private:
 
     int32 m_proxyCount;
 
-    // In stock's int32* m_moveBuffer: the quadtree and the adapter's state (the library's
-    // quadphase::detail::BroadPhaseState), opaque here.
+    // In stock's int32* m_moveBuffer: points into a block of the library's that starts with the quadtree's and the
+    // adapter's state (the library's quadphase::detail::BroadPhaseState), opaque here. With QUADPHASE_STOCK_TREE=1
+    // (a real b2DynamicTree in m_tree), stock's move buffer follows, and the six members below are stock's.
     void* m_state;
     int32 m_moveCapacity; // 0
     int32 m_moveCount;    // 0: stock's inline UpdatePairs, compiled into a program, finds no moved proxy
