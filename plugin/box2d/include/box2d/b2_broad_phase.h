@@ -91,8 +91,9 @@ public:
     /// (UpdatePairsWith, QueryWith, RayCastWith): a program that calls them itself runs only on quadphase's
     /// libbox2d. To build one program for both libraries, compile it against stock's headers (installed in
     /// include/quadphase-box2d-stock): it then runs on either, its own copies of stock's templates finding
-    /// nothing on quadphase's (see docs/design.md, "Binary compatibility"). Everything else in this header,
-    /// and all of b2World's API, runs on either library.
+    /// nothing on quadphase's unless QUADPHASE_STOCK_TREE=1 keeps a stock tree (see docs/design.md, "Binary
+    /// compatibility"). Everything else in this header but ShiftOrigin, and all of b2World's API, runs on either
+    /// library.
     template <typename T>
     void UpdatePairs(T* callback);
 
@@ -130,7 +131,8 @@ public:
     /// Shift the world origin. Useful for large worlds.
     /// The shift formula is: position -= newOrigin
     /// @param newOrigin the new origin with respect to the old origin
-    /// quadphase: O(proxies); the quadtree's bounds move with the world.
+    /// quadphase: O(proxies); the quadtree's bounds move with the world. Out of line (inline in stock's header):
+    /// a program built against this header that calls it needs quadphase's library.
     void ShiftOrigin(const b2Vec2& newOrigin);
 
 private:
