@@ -3,8 +3,9 @@
 // extras: everything declared in the installed quadphase headers (<quadphase/box2d.h>, the objects it hands out,
 // and the core they are made of). Included before anything else (-include) into quadphase's own sources of the
 // shared library only: the classes and functions below are then first declared, once and for all (#pragma once),
-// with default visibility. What is not declared here (quadphase::detail, the sources' own helpers, OpenMP's
-// bookkeeping) stays hidden.
+// with default visibility. What is not declared here (quadphase::detail, the sources' own helpers) stays hidden;
+// what the compiler exports regardless (libstdc++'s template instances, OpenMP's critical sections) the version
+// script libbox2d.map drops.
 #pragma once
 
 // Box2D's own headers first, outside the pragma: B2_API alone decides what of Box2D is exported.
