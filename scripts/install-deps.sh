@@ -9,13 +9,14 @@
 #
 # Purposes (each includes "core": compiler, CMake, Catch2, cairo, and what fetches Box2D's source):
 #   test         scripts/test.sh: + ffmpeg (configuring the project builds the tests, which need Catch2, and
-#                quadphase-scene, which needs cairo; its tests write a GIF and an MP4 through ffmpeg)
+#                quadphase-scene, which needs cairo; its tests write a GIF and an MP4 through ffmpeg), abigail-tools
+#                (tests/abi compares libbox2d.so.2's ABI with stock's by abidiff)
 #   demo         scripts/demo.sh: + python3 (the demo's report is the benchmark's, bench/qpbench)
 #   render       scripts/render.sh: + ffmpeg (GIF/MP4)
 #   testbed      scripts/testbed-screenshot.sh: + X11/GL dev packages for Box2D's testbed, Xvfb, Mesa, xdotool, ffmpeg
 #   bench        bench/*.sh, scripts/soak.sh: + Chipmunk2D, Bullet, python3
 #   race         scripts/race-check.sh: + clang-14 with LLVM's libomp and archer
-#   sanitize     scripts/sanitize.sh: + ffmpeg, as test (the same suite under GCC's sanitizers)
+#   sanitize     scripts/sanitize.sh: + ffmpeg and abigail-tools, as test (the same suite under GCC's sanitizers)
 #   fuzz         scripts/fuzz.sh: + clang-14's libFuzzer and sanitizer runtimes, libomp
 #   real-game    scripts/real-game.sh: + CaveExpress's build dependencies, Debian's caveexpress package, Xvfb,
 #                Mesa, xdotool, imagemagick
@@ -43,7 +44,8 @@ xvfb=(xvfb xauth libgl1-mesa-dri xdotool)  # virtual X server, Mesa software GL,
 packages_for() {
     case "$1" in
         demo) echo python3 ;;
-        test | sanitize | render) echo ffmpeg ;;  # test, sanitize: tests/scene_cli writes a GIF and an MP4
+        test | sanitize) echo ffmpeg abigail-tools ;;  # tests/scene_cli writes a GIF and an MP4; tests/abi: abidiff
+        render) echo ffmpeg ;;
         testbed)
             echo libgl-dev libx11-dev libxrandr-dev libxinerama-dev libxcursor-dev libxi-dev  # the testbed's glfw
             echo "${xvfb[@]}" ffmpeg  # screenshots (x11grab)

@@ -1,10 +1,13 @@
 # cmake -P driver of abi_swap_probe_*: the binary swap, as a user does it with LD_LIBRARY_PATH.
 #   -DPROBE=<swap_probe built against stock headers and libbox2d.so.2>  -DSTOCK_LIB_DIR= -DQUADPHASE_LIB_DIR=
-#   -DNM=<nm>  -DINTERPOSING=0|1  -DWORK_DIR=<scratch>
-# 1. On the stock library: the probe must say "stock" and pass its inline checks.
+#   -DNM=<nm>  -DINTERPOSING=0|1  -DTEMPLATES=0|1 (the probe has its template scene)  -DWORK_DIR=<scratch>
+# 1. On the stock library (LD_BIND_NOW=1): the probe must load, say "stock" and pass its inline checks.
 # 2. On quadphase's (LD_LIBRARY_PATH, QUADPHASE_VALIDATE=1, LD_BIND_NOW=1, LD_DEBUG=bindings): it must say
 #    "quadphase", pass its inline checks, give the same "sensors" lines (contacts at every step, query and ray-cast
-#    hashes, inline counts), and report 0 validation mismatches over more than 100 checked UpdatePairs.
+#    hashes, inline counts) and "edges" lines (stock's inline readers right after each kind of call), and report
+#    0 validation mismatches over more than 100 checked UpdatePairs.
+# 2b. On quadphase's with QUADPHASE_STOCK_TREE=1: every line (contacts, inline readers, stock's templates on a
+#    b2BroadPhase of the program's own, tree statistics) must be stock's, with 0 validation mismatches.
 # 3. No Box2D function of quadphase's library may be bound to the probe's own copies (vtables and typeinfo are
 #    data, copy-relocated into executables by design; sanitizer runtimes' symbols are not Box2D's). For the interposing build, the probe must really export copies of
 #    stock's inline b2BroadPhase functions, or step 3 would prove nothing.
@@ -31,9 +34,14 @@ function(lines_matching out_var regex text)
     set(${out_var} "${lines}" PARENT_SCOPE)
 endfunction()
 
-run_probe(stock "${STOCK_LIB_DIR}" "")
+# LD_BIND_NOW: a symbol the stock library lacks (the reverse build) fails at load, not at its first call.
+run_probe(stock "${STOCK_LIB_DIR}" "LD_BIND_NOW=1")
 run_probe(quadphase "${QUADPHASE_LIB_DIR}"
     "QUADPHASE_VALIDATE=1;LD_BIND_NOW=1;LD_DEBUG=bindings;LD_DEBUG_OUTPUT=${WORK_DIR}/bindings")
+
+# Stock-tree mode: a real b2DynamicTree beside the quadtree, so that stock's templates compiled into the program
+# find what stock's would.
+run_probe(stocktree "${QUADPHASE_LIB_DIR}" "QUADPHASE_STOCK_TREE=1;QUADPHASE_VALIDATE=1;LD_BIND_NOW=1")
 
 lines_matching(stock_library "^library " "${stock_out}")
 lines_matching(quadphase_library "^library " "${quadphase_out}")
@@ -58,6 +66,43 @@ if(NOT stock_sensors STREQUAL quadphase_sensors)
     message(FATAL_ERROR "contacts, queries or inline reads differ between the libraries:\nstock:\n${a}\nquadphase:\n${b}")
 endif()
 message(STATUS "${n} sensors lines (contact sets per step, query and ray-cast hashes, inline reads) identical")
+
+# Stock's inline readers right after each kind of proxy change (EdgeScene): the exact fat AABBs and overlaps.
+lines_matching(stock_edges "^edges " "${stock_out}")
+lines_matching(quadphase_edges "^edges " "${quadphase_out}")
+list(LENGTH stock_edges n)
+if(n LESS 50)
+    message(FATAL_ERROR "the probe printed only ${n} edges lines")
+endif()
+if(NOT stock_edges STREQUAL quadphase_edges)
+    string(REPLACE ";" "\n" a "${stock_edges}")
+    string(REPLACE ";" "\n" b "${quadphase_edges}")
+    message(FATAL_ERROR "stock's inline readers read other values right after a call:\nstock:\n${a}\nquadphase:\n${b}")
+endif()
+message(STATUS "${n} edges lines (inline readers right after create, move, touch, destroy, shift) identical")
+
+# Stock-tree mode gives stock's answers everywhere, stock's templates and tree statistics included; the default
+# mode gives them everywhere but there (documented: the templates find nothing, the statistics read 0).
+foreach(prefix IN ITEMS sensors edges templates)
+    lines_matching(a "^${prefix} " "${stock_out}")
+    lines_matching(b "^${prefix} " "${stocktree_out}")
+    list(LENGTH a n)
+    if(n EQUAL 0 AND (TEMPLATES OR NOT prefix STREQUAL "templates"))
+        message(FATAL_ERROR "the probe printed no ${prefix} lines")
+    endif()
+    if(NOT a STREQUAL b)
+        string(REPLACE ";" "\n" a "${a}")
+        string(REPLACE ";" "\n" b "${b}")
+        message(FATAL_ERROR "QUADPHASE_STOCK_TREE=1: ${prefix} lines differ from stock's:\nstock:\n${a}\nstock tree:\n${b}")
+    endif()
+    message(STATUS "QUADPHASE_STOCK_TREE=1: ${n} ${prefix} lines identical to stock's")
+endforeach()
+if(NOT stocktree_err MATCHES "quadphase: validation: ([0-9]+) UpdatePairs checked, 0 mismatches")
+    message(FATAL_ERROR "QUADPHASE_STOCK_TREE=1: validation found mismatches or did not run:\n${stocktree_err}")
+endif()
+lines_matching(a "^templates " "${quadphase_out}")
+string(REPLACE ";" "\n" a "${a}")
+message(STATUS "default mode, stock's templates (documented to find nothing):\n${a}")
 
 if(NOT quadphase_err MATCHES "quadphase: validation: ([0-9]+) UpdatePairs checked, ([0-9]+) mismatches")
     message(FATAL_ERROR "no validation summary from quadphase's library:\n${quadphase_err}")

@@ -10,7 +10,11 @@
 // - a pile of boxes, whose contacts are not compared (the pair order steers the solver, so the two runs diverge):
 //   with QUADPHASE_VALIDATE=1 the quadphase run checks every UpdatePairs against a shadow tree instead;
 // - "inline ...": stock's inline b2BroadPhase functions compiled into this program (GetUserData, GetFatAABB,
-//   TestOverlap, GetProxyCount, GetTreeHeight) read valid values on either library.
+//   TestOverlap, GetProxyCount, GetTreeHeight) read valid values on either library;
+// - "templates ...": stock's inline UpdatePairs, Query and RayCast templates and tree statistics on a b2BroadPhase
+//   of the program's own (stock's answers on quadphase's library with QUADPHASE_STOCK_TREE=1 only);
+// - "edges ...": those inline readers right after CreateProxy, MoveProxy, TouchProxy, DestroyProxy and ShiftOrigin
+//   (through b2Body and b2World calls), before any Step: they must read what stock's tree holds at that moment.
 // Exit status 1 when an inline check fails. Built twice: as is, and with -O0 -fno-inline -rdynamic, which puts
 // out-of-line copies of stock's inline functions in the executable's dynamic symbol table (the interposition probe).
 #include <box2d/box2d.h>
@@ -282,6 +286,9 @@ void SensorScene()
             std::printf("sensors queries step %d hash %016" PRIx64 "\n", step, q.value);
         }
     }
+    // b2World's tree statistics (the library's, through b2BroadPhase's inline ones): stock's tree's, or 0.
+    std::printf("templates sensors world tree height %d balance %d quality %a\n", world.GetTreeHeight(),
+                world.GetTreeBalance(), double(world.GetTreeQuality()));
 }
 
 void PileScene()
@@ -314,6 +321,216 @@ void PileScene()
     CheckInline("pile", world, false);
 }
 
+// Stock's inline readers (GetFatAABB, GetUserData, TestOverlap) right after each kind of call that changes a proxy,
+// before anything (a Step, a query) would let a lazy broadphase catch up: "edges <when> ..." lines, one per proxy,
+// keyed by fixture index and child (proxy ids differ between the libraries: stock's tree numbers its inner nodes
+// among the proxies), with the fat AABB's exact bits and which other proxies' fat AABBs it overlaps.
+void PrintReaders(const char* when, b2World& world)
+{
+    const b2BroadPhase& bp = world.GetContactManager().m_broadPhase;
+    std::vector<std::pair<std::pair<uint64_t, int32>, int32>> ids; // ((fixture index, child), proxy id)
+    // Stops at the last proxy: stock's GetUserData does not check the id against the node array's size.
+    for (int32 id = 0; int32(ids.size()) < bp.GetProxyCount() && id < 4 * bp.GetProxyCount() + 16; ++id)
+    {
+        const b2FixtureProxy* proxy = static_cast<const b2FixtureProxy*>(bp.GetUserData(id));
+        // A destroyed proxy's record may keep its user data on stock (a freed node), with proxyId reset.
+        if (proxy != nullptr && proxy->proxyId == id)
+        {
+            ids.push_back(std::make_pair(std::make_pair(Index(proxy->fixture), proxy->childIndex), id));
+        }
+    }
+    std::sort(ids.begin(), ids.end());
+    Check(int32(ids.size()) == bp.GetProxyCount(), "every proxy is found through GetUserData",
+          long(ids.size()));
+    for (size_t i = 0; i < ids.size(); ++i)
+    {
+        const b2AABB fat = bp.GetFatAABB(ids[i].second);
+        std::printf("edges %s f%d.%d [%a %a %a %a] overlaps", when, int(ids[i].first.first),
+                    int(ids[i].first.second), double(fat.lowerBound.x), double(fat.lowerBound.y),
+                    double(fat.upperBound.x), double(fat.upperBound.y));
+        for (size_t j = 0; j < ids.size(); ++j)
+        {
+            if (j != i && bp.TestOverlap(ids[i].second, ids[j].second))
+            {
+                std::printf(" f%d.%d", int(ids[j].first.first), int(ids[j].first.second));
+            }
+        }
+        std::printf("\n");
+    }
+}
+
+void EdgeScene()
+{
+    b2World world(b2Vec2(0.0f, 0.0f));
+    uint64_t next = 0;
+    b2PolygonShape box;
+    box.SetAsBox(0.5f, 0.5f);
+    b2CircleShape circle;
+    circle.m_radius = 0.75f;
+    b2Body* a = AddBody(world, b2_dynamicBody, 0.0f, 0.0f, next);
+    AddFixture(a, box, false, next);
+    b2Body* b = AddBody(world, b2_dynamicBody, 3.0f, 0.0f, next);
+    AddFixture(b, circle, true, next);
+    b2Body* ground = AddBody(world, b2_staticBody, 0.0f, -2.0f, next);
+    b2Vec2 points[4] = {b2Vec2(-10.0f, 0.0f), b2Vec2(0.0f, 0.5f), b2Vec2(10.0f, 0.0f), b2Vec2(30.0f, 1.0f)};
+    b2ChainShape chain;
+    chain.CreateChain(points, 4, points[0], points[3]);
+    AddFixture(ground, chain, false, next);
+    PrintReaders("created", world);
+    world.Step(1.0f / 60.0f, 8, 3);
+    PrintReaders("stepped", world);
+    // CreateProxy between steps.
+    b2Body* c = AddBody(world, b2_dynamicBody, 27.0f, 0.5f, next);
+    AddFixture(c, box, false, next);
+    PrintReaders("created-between-steps", world);
+    // MoveProxy through b2Body::SetTransform: far (a new fat box), then onto c (TestOverlap turns true).
+    a->SetTransform(b2Vec2(27.0f, 0.0f), 0.0f);
+    PrintReaders("teleported", world);
+    // A small move inside the fat box (the stored box stays), and a move that shrinks nothing.
+    b->SetTransform(b2Vec2(3.05f, 0.0f), 0.0f);
+    PrintReaders("nudged", world);
+    // Moved twice before anything reads the broadphase through the library.
+    b->SetTransform(b2Vec2(-8.0f, 4.0f), 0.5f);
+    b->SetTransform(b2Vec2(-8.5f, 4.0f), 0.7f);
+    PrintReaders("moved-twice", world);
+    // TouchProxy (b2Fixture::Refilter) after a move.
+    a->SetTransform(b2Vec2(20.0f, 1.0f), 1.0f);
+    a->GetFixtureList()->Refilter();
+    PrintReaders("touched", world);
+    // Destroyed and created again (b2Body::SetEnabled), then the origin shifts with a move still pending.
+    b->SetEnabled(false);
+    PrintReaders("disabled", world);
+    b->SetEnabled(true);
+    c->SetTransform(b2Vec2(-3.0f, -1.0f), 0.0f);
+    world.ShiftOrigin(b2Vec2(5.0f, -2.0f));
+    PrintReaders("shifted", world);
+    world.Step(1.0f / 60.0f, 8, 3);
+    PrintReaders("stepped-again", world);
+}
+
+#ifndef SWAP_PROBE_NO_TEMPLATES
+// Stock's inline templates (UpdatePairs, Query, RayCast) and tree statistics of a b2BroadPhase the program drives
+// itself: "templates ..." lines. On quadphase's library they give stock's answers with QUADPHASE_STOCK_TREE=1 only
+// (docs/design.md, "Binary compatibility"). Not in the reverse build: quadphase's header makes these templates call
+// the library's QueryWith, RayCastWith and UpdatePairsWith, which stock's library lacks.
+struct PairCollector
+{
+    std::vector<std::pair<uintptr_t, uintptr_t>> pairs;
+    void AddPair(void* a, void* b)
+    {
+        uintptr_t x = reinterpret_cast<uintptr_t>(a);
+        uintptr_t y = reinterpret_cast<uintptr_t>(b);
+        pairs.push_back(std::make_pair(std::min(x, y), std::max(x, y)));
+    }
+};
+
+struct HitCollector
+{
+    const b2BroadPhase* bp;
+    std::vector<uintptr_t> hits;
+    bool QueryCallback(int32 id)
+    {
+        hits.push_back(reinterpret_cast<uintptr_t>(bp->GetUserData(id)));
+        return true;
+    }
+    float RayCastCallback(const b2RayCastInput& input, int32 id)
+    {
+        hits.push_back(reinterpret_cast<uintptr_t>(bp->GetUserData(id)));
+        return input.maxFraction;
+    }
+};
+
+void PrintPairs(const char* when, b2BroadPhase& bp)
+{
+    PairCollector collector;
+    bp.UpdatePairs(&collector);
+    std::sort(collector.pairs.begin(), collector.pairs.end());
+    collector.pairs.erase(std::unique(collector.pairs.begin(), collector.pairs.end()), collector.pairs.end());
+    Hash h;
+    for (size_t i = 0; i < collector.pairs.size(); ++i)
+    {
+        h.Add(collector.pairs[i].first);
+        h.Add(collector.pairs[i].second);
+    }
+    std::printf("templates %s UpdatePairs %zu pairs hash %016" PRIx64 "\n", when, collector.pairs.size(),
+                h.value);
+}
+
+void TemplateScene()
+{
+    b2BroadPhase bp;
+    std::vector<int32> ids;
+    for (int i = 0; i < 300; ++i)
+    {
+        b2AABB box;
+        box.lowerBound.Set(Uniform(-40.0f, 40.0f), Uniform(-40.0f, 40.0f));
+        box.upperBound = box.lowerBound + b2Vec2(Uniform(0.2f, 3.0f), Uniform(0.2f, 3.0f));
+        ids.push_back(bp.CreateProxy(box, reinterpret_cast<void*>(uintptr_t(i + 1))));
+    }
+    PrintPairs("created", bp);
+    for (int round = 0; round < 5; ++round)
+    {
+        for (int k = 0; k < 60; ++k)
+        {
+            const int32 id = ids[size_t((round * 61 + k * 7) % 300)];
+            if (id == b2BroadPhase::e_nullProxy)
+            {
+                continue;
+            }
+            const b2AABB& fat = bp.GetFatAABB(id);
+            const b2Vec2 d(Uniform(-1.5f, 1.5f), Uniform(-1.5f, 1.5f));
+            b2AABB box;
+            box.lowerBound = fat.lowerBound + b2Vec2(0.1f, 0.1f) + d;
+            box.upperBound = fat.upperBound - b2Vec2(0.1f, 0.1f) + d;
+            bp.MoveProxy(id, box, d);
+        }
+        bp.TouchProxy(ids[size_t(round * 13 + 1)]);
+        const size_t destroyed = size_t(round * 17 + 5);
+        if (ids[destroyed] != b2BroadPhase::e_nullProxy)
+        {
+            bp.DestroyProxy(ids[destroyed]);
+            ids[destroyed] = b2BroadPhase::e_nullProxy;
+        }
+        PrintPairs("moved", bp);
+    }
+    Hash q;
+    for (int i = 0; i < 30; ++i)
+    {
+        HitCollector hits;
+        hits.bp = &bp;
+        b2AABB box;
+        box.lowerBound.Set(Uniform(-45.0f, 40.0f), Uniform(-45.0f, 40.0f));
+        box.upperBound = box.lowerBound + b2Vec2(Uniform(0.5f, 12.0f), Uniform(0.5f, 12.0f));
+        bp.Query(&hits, box);
+        std::sort(hits.hits.begin(), hits.hits.end());
+        for (size_t k = 0; k < hits.hits.size(); ++k)
+        {
+            q.Add(hits.hits[k]);
+        }
+        q.Add(~uint64_t(0));
+    }
+    for (int i = 0; i < 30; ++i)
+    {
+        HitCollector hits;
+        hits.bp = &bp;
+        b2RayCastInput input;
+        input.p1.Set(Uniform(-50.0f, 50.0f), Uniform(-50.0f, 50.0f));
+        input.p2.Set(Uniform(-50.0f, 50.0f), Uniform(-50.0f, 50.0f));
+        input.maxFraction = 1.0f;
+        bp.RayCast(&hits, input);
+        std::sort(hits.hits.begin(), hits.hits.end());
+        for (size_t k = 0; k < hits.hits.size(); ++k)
+        {
+            q.Add(hits.hits[k]);
+        }
+        q.Add(~uint64_t(0));
+    }
+    std::printf("templates Query and RayCast hash %016" PRIx64 "\n", q.value);
+    std::printf("templates tree height %d balance %d quality %a\n", bp.GetTreeHeight(), bp.GetTreeBalance(),
+                double(bp.GetTreeQuality()));
+}
+#endif
+
 void PrintLibrary()
 {
     Dl_info info;
@@ -332,6 +549,10 @@ void PrintLibrary()
 int main()
 {
     PrintLibrary();
+    EdgeScene();
+#ifndef SWAP_PROBE_NO_TEMPLATES
+    TemplateScene();
+#endif
     SensorScene();
     PileScene();
     std::printf("inline failures %d\n", g_failures);

@@ -1,5 +1,5 @@
 // quadphase's b2BroadPhase: forwards Box2D's calls to the quadtree, keeps the stock-layout node array current and,
-// in validation mode, feeds a shadow b2DynamicTree.
+// in validation mode, feeds a shadow b2DynamicTree; with QUADPHASE_STOCK_TREE=1, keeps a real stock tree too.
 #include "box2d/b2_broad_phase.h"
 
 #include <atomic>
@@ -8,19 +8,21 @@
 #include <cstdlib>
 #include <cstring>
 #include <mutex>
+#include <new>
 #include <type_traits>
 
 #include "broad_phase_state.h"
 #include "quadphase/box2d.h"
+#include "validation_log.h"
 
 using quadphase::detail::BroadPhaseState;
 
 namespace
 {
 
-bool ValidationRequestedByEnvironment()
+bool RequestedByEnvironment(const char* name)
 {
-    const char* value = std::getenv("QUADPHASE_VALIDATE");
+    const char* value = std::getenv(name);
     return value != nullptr && value[0] != '\0' && std::strcmp(value, "0") != 0;
 }
 
@@ -39,6 +41,9 @@ quadphase::Box ToBox(const b2AABB& a)
 
 // The core's query callback type is the adapter's: the thunks pass straight through.
 static_assert(std::is_same<int32, quadphase::ProxyId>::value, "Box2D's int32 must be quadphase's ProxyId");
+static_assert(sizeof(b2AABB) == sizeof(quadphase::Box) &&
+                  offsetof(b2AABB, upperBound) == offsetof(quadphase::Box, maxX),
+              "b2AABB and quadphase::Box must both be minX, minY, maxX, maxY");
 
 // Process-wide validation totals (see AddValidationTotals).
 std::atomic<int64_t> g_validatedChecks{0};
@@ -50,11 +55,49 @@ void PrintValidationSummary()
     std::fprintf(stderr, "quadphase: validation: %lld UpdatePairs checked, %lld mismatches\n",
                  static_cast<long long>(g_validatedChecks.load()),
                  static_cast<long long>(g_validationMismatches.load()));
+    quadphase::detail::LogValidationTotals(g_validatedChecks.load(), g_validationMismatches.load(), true);
 }
 
-BroadPhaseState& State(void* state)
+// m_state's block (broad_phase_state.h): the state pointer, then the int32 array m_state points at.
+BroadPhaseState& State(const void* moves)
 {
-    return *static_cast<BroadPhaseState*>(state);
+    BroadPhaseState* state;
+    std::memcpy(&state, static_cast<const unsigned char*>(moves) - quadphase::detail::kStateHeader,
+                sizeof state);
+    return *state;
+}
+
+void* NewStateBlock(BroadPhaseState* state, int32 capacity)
+{
+    unsigned char* block = static_cast<unsigned char*>(
+        b2Alloc(int32(quadphase::detail::kStateHeader) + capacity * int32(sizeof(int32))));
+    std::memcpy(block, &state, sizeof state);
+    return block + quadphase::detail::kStateHeader;
+}
+
+void FreeStateBlock(void* moves)
+{
+    b2Free(static_cast<unsigned char*>(moves) - quadphase::detail::kStateHeader);
+}
+
+// Stock-tree mode: the core id of a tree id, -1 (which the core reports as unknown) when there is none.
+int32 CoreId(const BroadPhaseState& state, int32 treeId)
+{
+    return treeId >= 0 && size_t(treeId) < state.coreOfTree.size() ? state.coreOfTree[size_t(treeId)] : -1;
+}
+
+int32 TreeId(const BroadPhaseState& state, int32 coreId)
+{
+    return state.treeOfCore[size_t(coreId)];
+}
+
+void Map(std::vector<int32>& map, int32 from, int32 to)
+{
+    if (size_t(from) >= map.size())
+    {
+        map.resize(size_t(from) + 1, -1);
+    }
+    map[size_t(from)] = to;
 }
 
 // Adds what the validator found since the last call to the process-wide totals.
@@ -77,22 +120,26 @@ namespace detail
 
 BroadPhaseState& StateOf(b2BroadPhase& broadPhase)
 {
-    void* state;
-    std::memcpy(&state, reinterpret_cast<unsigned char*>(&broadPhase) + kStateOffset, sizeof state);
-    return *static_cast<BroadPhaseState*>(state);
+    void* moves;
+    std::memcpy(&moves, reinterpret_cast<unsigned char*>(&broadPhase) + kStateOffset, sizeof moves);
+    return State(moves);
 }
 
 const BroadPhaseState& StateOf(const b2BroadPhase& broadPhase)
 {
-    void* state;
-    std::memcpy(&state, reinterpret_cast<const unsigned char*>(&broadPhase) + kStateOffset, sizeof state);
-    return *static_cast<const BroadPhaseState*>(state);
+    void* moves;
+    std::memcpy(&moves, reinterpret_cast<const unsigned char*>(&broadPhase) + kStateOffset, sizeof moves);
+    return State(moves);
 }
 
 void AddValidationTotals(const ValidationReport& report)
 {
-    g_validatedChecks += report.checks;
-    g_validationMismatches += report.mismatches;
+    const int64_t checks = g_validatedChecks += report.checks;
+    const int64_t mismatches = g_validationMismatches += report.mismatches;
+    if (report.checks != 0 || report.mismatches != 0)
+    {
+        LogValidationTotals(checks, mismatches, false);
+    }
 }
 
 } // namespace detail
@@ -119,14 +166,23 @@ b2BroadPhase::b2BroadPhase()
     m_tree.freeList = b2_nullNode;
     m_tree.insertionCount = 0;
     m_proxyCount = 0;
-    m_state = new BroadPhaseState(Box2DFatPolicy());
+    BroadPhaseState* state = new BroadPhaseState(Box2DFatPolicy());
     m_moveCapacity = 0;
     m_moveCount = 0;
     m_pairBuffer = nullptr;
     m_pairCapacity = 0;
     m_pairCount = 0;
     m_queryProxyId = e_nullProxy;
-    if (ValidationRequestedByEnvironment())
+    if (RequestedByEnvironment("QUADPHASE_STOCK_TREE"))
+    {
+        // Stock's constructor, on storage of the same layout (checked above).
+        state->stockTree = new (&m_tree) b2DynamicTree;
+        m_moveCapacity = 16;
+        m_pairCapacity = 16;
+        m_pairBuffer = static_cast<b2Pair*>(b2Alloc(m_pairCapacity * int32(sizeof(b2Pair))));
+    }
+    m_state = NewStateBlock(state, m_moveCapacity);
+    if (RequestedByEnvironment("QUADPHASE_VALIDATE"))
     {
         quadphase::SetValidation(*this, true);
     }
@@ -139,14 +195,42 @@ b2BroadPhase::~b2BroadPhase()
     {
         quadphase::SetValidation(*this, false);
     }
+    if (state.stockTree != nullptr)
+    {
+        state.stockTree->~b2DynamicTree();
+        b2Free(m_pairBuffer);
+    }
+    else
+    {
+        b2Free(m_tree.nodes);
+    }
     delete &state;
-    b2Free(m_tree.nodes);
+    FreeStateBlock(m_state);
 }
 
 int32 b2BroadPhase::CreateProxy(const b2AABB& aabb, void* userData)
 {
     BroadPhaseState& state = State(m_state);
     const int32 proxyId = state.core.CreateProxy(ToBox(aabb), userData);
+    if (state.stockTree != nullptr)
+    {
+        // Stock's CreateProxy on the tree, whose id is the one handed out.
+        const int32 treeId = state.stockTree->CreateProxy(aabb, userData);
+        Map(state.coreOfTree, treeId, proxyId);
+        Map(state.treeOfCore, proxyId, treeId);
+        BufferMove(treeId);
+        m_proxyCount = state.core.GetProxyCount();
+        if (state.trace != nullptr)
+        {
+            state.trace->Add({quadphase::TraceOp::Create, proxyId, ToBox(aabb), {}});
+        }
+        if (state.shadow)
+        {
+            state.shadow->OnCreate(proxyId, aabb);
+            SyncValidationTotals(state);
+        }
+        return treeId;
+    }
     if (proxyId >= m_tree.nodeCapacity)
     {
         // Grows the records by doubling (amortised O(1)), then hands the new array to the core, which copies every
@@ -199,9 +283,17 @@ int32 b2BroadPhase::CreateProxy(const b2AABB& aabb, void* userData)
     return proxyId;
 }
 
-void b2BroadPhase::DestroyProxy(int32 proxyId)
+void b2BroadPhase::DestroyProxy(int32 id)
 {
     BroadPhaseState& state = State(m_state);
+    const int32 proxyId = state.stockTree != nullptr ? CoreId(state, id) : id;
+    if (state.stockTree != nullptr && proxyId >= 0)
+    {
+        UnBufferMove(id);
+        state.stockTree->DestroyProxy(id);
+        state.coreOfTree[size_t(id)] = -1;
+        state.treeOfCore[size_t(proxyId)] = -1;
+    }
     if (state.trace != nullptr)
     {
         state.trace->Add({quadphase::TraceOp::Destroy, proxyId, {}, {}});
@@ -212,19 +304,23 @@ void b2BroadPhase::DestroyProxy(int32 proxyId)
         state.shadow->OnDestroy(proxyId);
     }
     state.core.DestroyProxy(proxyId); // reports an unknown id
-    if (live)
+    if (state.stockTree == nullptr)
     {
-        b2TreeNode& node = m_tree.nodes[proxyId];
-        node.userData = nullptr;
-        node.height = -1;
+        if (live)
+        {
+            b2TreeNode& node = m_tree.nodes[proxyId];
+            node.userData = nullptr;
+            node.height = -1;
+        }
+        m_tree.nodeCount = state.core.GetProxyCount();
     }
-    m_tree.nodeCount = state.core.GetProxyCount();
     m_proxyCount = state.core.GetProxyCount();
 }
 
-void b2BroadPhase::MoveProxy(int32 proxyId, const b2AABB& aabb, const b2Vec2& displacement)
+void b2BroadPhase::MoveProxy(int32 id, const b2AABB& aabb, const b2Vec2& displacement)
 {
     BroadPhaseState& state = State(m_state);
+    const int32 proxyId = state.stockTree != nullptr ? CoreId(state, id) : id;
     if (state.trace != nullptr)
     {
         state.trace->Add({quadphase::TraceOp::Move, proxyId, ToBox(aabb), {displacement.x, displacement.y}});
@@ -232,15 +328,41 @@ void b2BroadPhase::MoveProxy(int32 proxyId, const b2AABB& aabb, const b2Vec2& di
     // Queued: Box2D moves its bodies one by one on this thread; the fat-AABB tests run as one batch, in UpdatePairs
     // or when the queue is full.
     state.core.QueueMove(proxyId, ToBox(aabb), {displacement.x, displacement.y});
+    // The record gets the move's outcome now, as stock's tree does inside MoveProxy, so that stock's inline
+    // GetFatAABB and TestOverlap, compiled into a program, never read a box the core has not applied yet. The record
+    // is the fat box after every earlier move (the core applies its queue before a proxy's second move), so the
+    // same test on it gives, bit for bit, the box the core writes again when it applies this move.
+    if (state.stockTree != nullptr)
+    {
+        // Stock's MoveProxy on the tree, which updates its own node.
+        if (proxyId >= 0 && state.stockTree->MoveProxy(id, aabb, displacement))
+        {
+            BufferMove(id);
+        }
+    }
+    else if (proxyId >= 0 && proxyId < m_tree.nodeCapacity && m_tree.nodes[proxyId].height == 0)
+    {
+        // The core's branch-free test (SSE where available), then one 16-byte store, changed or not.
+        b2AABB& record = m_tree.nodes[proxyId].aabb;
+        quadphase::Box stored;
+        std::memcpy(&stored, static_cast<const void*>(&record), sizeof stored);
+        quadphase::RefattenSimd(Box2DFatPolicy(), stored, ToBox(aabb), {displacement.x, displacement.y});
+        std::memcpy(static_cast<void*>(&record), &stored, sizeof stored);
+    }
     if (state.shadow && state.core.GetPool().IsLive(proxyId))
     {
         state.shadow->OnMove(proxyId, aabb, displacement);
     }
 }
 
-void b2BroadPhase::TouchProxy(int32 proxyId)
+void b2BroadPhase::TouchProxy(int32 id)
 {
     BroadPhaseState& state = State(m_state);
+    const int32 proxyId = state.stockTree != nullptr ? CoreId(state, id) : id;
+    if (state.stockTree != nullptr && proxyId >= 0)
+    {
+        BufferMove(id);
+    }
     if (state.trace != nullptr)
     {
         state.trace->Add({quadphase::TraceOp::Touch, proxyId, {}, {}});
@@ -254,43 +376,65 @@ void b2BroadPhase::TouchProxy(int32 proxyId)
 
 void b2BroadPhase::BufferMove(int32 proxyId)
 {
-    // Stock: puts the proxy in the move buffer, which is what TouchProxy does here.
-    State(m_state).core.TouchProxy(proxyId);
-}
-
-void b2BroadPhase::UnBufferMove(int32)
-{
-    // Stock: nulls the proxy out of the move buffer when it is destroyed; the core's DestroyProxy does that itself.
-}
-
-bool b2BroadPhase::QueryCallback(int32)
-{
-    // Stock: collects a pair for the proxy being queried by its inline UpdatePairs. A program that compiled its own
-    // copy of that template walks m_tree, whose root is b2_nullNode here, so this is never reached; answering
-    // true (go on) keeps such a walk harmless if it were.
-    return true;
-}
-
-const b2AABB& b2BroadPhase::GetFatAABB(int32 proxyId) const
-{
-    // GetFatBox applies queued moves (so the record is current) and reports an unknown id.
-    State(m_state).core.GetFatBox(proxyId);
-    if (proxyId < 0 || proxyId >= m_tree.nodeCapacity)
+    BroadPhaseState& state = State(m_state);
+    if (state.stockTree == nullptr)
     {
-        static const b2AABB empty = {{0.0f, 0.0f}, {0.0f, 0.0f}};
-        return empty;
+        // Stock: puts the proxy in the move buffer, which is what TouchProxy does here.
+        state.core.TouchProxy(proxyId);
+        return;
     }
-    return m_tree.nodes[proxyId].aabb;
+    // Stock-tree mode: stock's move buffer, in m_state's block.
+    if (m_moveCount == m_moveCapacity)
+    {
+        void* old = m_state;
+        m_moveCapacity *= 2;
+        m_state = NewStateBlock(&state, m_moveCapacity);
+        std::memcpy(m_state, old, size_t(m_moveCount) * sizeof(int32));
+        FreeStateBlock(old);
+    }
+    static_cast<int32*>(m_state)[m_moveCount] = proxyId;
+    ++m_moveCount;
 }
 
-void* b2BroadPhase::GetUserData(int32 proxyId) const
+void b2BroadPhase::UnBufferMove(int32 proxyId)
 {
-    return State(m_state).core.GetUserData(proxyId);
+    // Stock: nulls the proxy out of the move buffer when it is destroyed (stock-tree mode); otherwise the core's
+    // DestroyProxy does that itself, and m_moveCount is 0.
+    int32* moves = static_cast<int32*>(m_state);
+    for (int32 i = 0; i < m_moveCount; ++i)
+    {
+        if (moves[i] == proxyId)
+        {
+            moves[i] = e_nullProxy;
+        }
+    }
 }
 
-bool b2BroadPhase::TestOverlap(int32 proxyIdA, int32 proxyIdB) const
+bool b2BroadPhase::QueryCallback(int32 proxyId)
 {
-    return State(m_state).core.TestOverlap(proxyIdA, proxyIdB);
+    // Stock's, for stock's inline UpdatePairs compiled into a program: collects a pair for the proxy being
+    // queried. Reached only in stock-tree mode: otherwise m_tree's root is b2_nullNode and m_moveCount is 0.
+    if (proxyId == m_queryProxyId)
+    {
+        return true;
+    }
+    const bool moved = State(m_state).stockTree->WasMoved(proxyId);
+    if (moved && proxyId > m_queryProxyId)
+    {
+        return true; // both proxies are moving: avoids duplicate pairs
+    }
+    if (m_pairCount == m_pairCapacity)
+    {
+        b2Pair* oldBuffer = m_pairBuffer;
+        m_pairCapacity = m_pairCapacity + (m_pairCapacity >> 1);
+        m_pairBuffer = static_cast<b2Pair*>(b2Alloc(m_pairCapacity * int32(sizeof(b2Pair))));
+        std::memcpy(m_pairBuffer, oldBuffer, size_t(m_pairCount) * sizeof(b2Pair));
+        b2Free(oldBuffer);
+    }
+    m_pairBuffer[m_pairCount].proxyIdA = b2Min(proxyId, m_queryProxyId);
+    m_pairBuffer[m_pairCount].proxyIdB = b2Max(proxyId, m_queryProxyId);
+    ++m_pairCount;
+    return true;
 }
 
 void b2BroadPhase::UpdatePairsWith(b2AddPairThunk thunk, void* callback)
@@ -312,11 +456,50 @@ void b2BroadPhase::UpdatePairsWith(b2AddPairThunk thunk, void* callback)
     {
         thunk(callback, pool.UserData(pair.a), pool.UserData(pair.b));
     }
+    if (state.stockTree != nullptr)
+    {
+        // As stock's UpdatePairs ends: the move buffer is consumed.
+        const int32* moves = static_cast<const int32*>(m_state);
+        for (int32 i = 0; i < m_moveCount; ++i)
+        {
+            if (moves[i] != e_nullProxy)
+            {
+                state.stockTree->ClearMoved(moves[i]);
+            }
+        }
+        m_moveCount = 0;
+    }
 }
+
+namespace
+{
+
+// Stock-tree mode: the callbacks get the tree's ids. The map is read at each call (a callback may create proxies).
+struct QueryBridge
+{
+    bool (*thunk)(void*, int32);
+    void* callback;
+    const BroadPhaseState* state;
+
+    static bool Call(void* context, quadphase::ProxyId id)
+    {
+        QueryBridge& self = *static_cast<QueryBridge*>(context);
+        return self.thunk(self.callback, TreeId(*self.state, id));
+    }
+};
+
+} // namespace
 
 void b2BroadPhase::QueryWith(b2QueryThunk thunk, void* callback, const b2AABB& aabb) const
 {
-    State(m_state).core.Query(ToBox(aabb), thunk, callback);
+    const BroadPhaseState& state = State(m_state);
+    if (state.stockTree != nullptr)
+    {
+        QueryBridge bridge{thunk, callback, &state};
+        state.core.Query(ToBox(aabb), &QueryBridge::Call, &bridge);
+        return;
+    }
+    state.core.Query(ToBox(aabb), thunk, callback);
 }
 
 namespace
@@ -327,12 +510,14 @@ struct RayCastBridge
     float (*thunk)(void*, const b2RayCastInput&, int32);
     void* callback;
     b2RayCastInput input;
+    const BroadPhaseState* stockTreeMap; // stock-tree mode: the callbacks get the tree's ids
 
     static float Call(void* context, const quadphase::RayInput& in, quadphase::ProxyId id)
     {
         RayCastBridge& self = *static_cast<RayCastBridge*>(context);
         self.input.maxFraction = in.maxFraction; // p1 and p2 never change; the core clips maxFraction
-        return self.thunk(self.callback, self.input, id);
+        return self.thunk(self.callback, self.input,
+                          self.stockTreeMap != nullptr ? TreeId(*self.stockTreeMap, id) : id);
     }
 };
 
@@ -340,31 +525,10 @@ struct RayCastBridge
 
 void b2BroadPhase::RayCastWith(b2RayCastThunk thunk, void* callback, const b2RayCastInput& input) const
 {
-    RayCastBridge bridge{thunk, callback, input};
-    const quadphase::RayInput in{{input.p1.x, input.p1.y}, {input.p2.x, input.p2.y}, input.maxFraction};
-    State(m_state).core.RayCast(in, &RayCastBridge::Call, &bridge);
-}
-
-int32 b2BroadPhase::GetTreeHeight() const
-{
-    return State(m_state).core.GetPyramid().Depth();
-}
-
-int32 b2BroadPhase::GetTreeBalance() const
-{
-    int64_t occupied = 0;
-    int64_t largest = 0;
-    State(m_state).core.GetPyramid().CountOccupancy(occupied, largest);
-    return int32(largest);
-}
-
-float b2BroadPhase::GetTreeQuality() const
-{
     const BroadPhaseState& state = State(m_state);
-    int64_t occupied = 0;
-    int64_t largest = 0;
-    state.core.GetPyramid().CountOccupancy(occupied, largest);
-    return occupied > 0 ? float(state.core.GetProxyCount()) / float(occupied) : 0.0f;
+    RayCastBridge bridge{thunk, callback, input, state.stockTree != nullptr ? &state : nullptr};
+    const quadphase::RayInput in{{input.p1.x, input.p1.y}, {input.p2.x, input.p2.y}, input.maxFraction};
+    state.core.RayCast(in, &RayCastBridge::Call, &bridge);
 }
 
 void b2BroadPhase::ShiftOrigin(const b2Vec2& newOrigin)
@@ -375,6 +539,10 @@ void b2BroadPhase::ShiftOrigin(const b2Vec2& newOrigin)
         state.trace->Add({quadphase::TraceOp::ShiftOrigin, -1, {}, {newOrigin.x, newOrigin.y}});
     }
     state.core.ShiftOrigin({newOrigin.x, newOrigin.y}); // rewrites every record
+    if (state.stockTree != nullptr)
+    {
+        state.stockTree->ShiftOrigin(newOrigin);
+    }
     if (state.shadow)
     {
         state.shadow->OnShiftOrigin(newOrigin);

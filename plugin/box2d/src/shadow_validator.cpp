@@ -8,6 +8,7 @@
 #include <cstdio>
 
 #include "quadphase/error.h"
+#include "validation_log.h"
 
 namespace quadphase
 {
@@ -121,6 +122,7 @@ void ShadowValidator::Mismatch(const std::string& what)
     {
         m_report.firstMismatch = what;
     }
+    detail::LogValidationMismatch(what); // QUADPHASE_VALIDATE_LOG: in the file before anything else can happen
     ReportError(kValidationMismatch, "validation mismatch: %s", what.c_str());
 }
 

@@ -10,9 +10,12 @@
 //   b2ContactManager and b2World keep stock's layout, and a program compiled against stock headers runs on this
 //   library (the binary swap through LD_LIBRARY_PATH).
 // - What stock's inline functions read, compiled into such a program, stays valid: m_tree's node array holds, per
-//   proxy id, the fat AABB and the user data (GetFatAABB, GetUserData and TestOverlap read them exactly);
-//   m_proxyCount is the proxy count; the tree's root is b2_nullNode, so a height of 0, and stock's inline Query,
-//   RayCast and UpdatePairs, if a program compiled its own copies, find nothing instead of reading freed memory.
+//   proxy id, the fat AABB and the user data, current at every moment (GetFatAABB, GetUserData and TestOverlap
+//   read them exactly); m_proxyCount is the proxy count; the tree's root is b2_nullNode, so a height of 0, and
+//   stock's inline Query, RayCast and UpdatePairs, if a program compiled its own copies, find nothing instead of
+//   reading freed memory.
+// - What stock's header has inline is inline here too, reading the same members: a program built against this
+//   header that does not call the Query, RayCast or UpdatePairs templates runs on stock's libbox2d.so.2 as well.
 // quadphase's extras (Configure, GetStats, SetValidation, ...) are in <quadphase/box2d.h>.
 
 #ifndef B2_BROAD_PHASE_H
@@ -66,11 +69,13 @@ public:
     void TouchProxy(int32 proxyId);
 
     /// Get the fat AABB for a proxy.
-    /// quadphase: the reference is into the node array, as with the stock tree: valid until the next call that
-    /// creates a proxy (the array may grow) or moves or destroys this one.
+    /// quadphase: inline, as in stock's header, and exact at every moment (MoveProxy writes the record at once):
+    /// the reference is into the node array, as with the stock tree: valid until the next call that creates a
+    /// proxy (the array may grow) or moves or destroys this one. The id is checked by b2Assert only, as in stock.
     const b2AABB& GetFatAABB(int32 proxyId) const;
 
     /// Get user data from a proxy. Returns nullptr if the id is invalid.
+    /// quadphase: nullptr too for a destroyed proxy, or an id outside the node array.
     void* GetUserData(int32 proxyId) const;
 
     /// Test overlap of fat AABBs.
@@ -82,6 +87,13 @@ public:
     /// Update the pairs. This results in pair callbacks. This can only add pairs.
     /// quadphase: costs in proportion to the proxies created, moved or touched since the previous call and their
     /// neighbourhoods, not to the number of proxies: Box2D calls it after every time-of-impact event too.
+    /// quadphase: this template and Query and RayCast call functions only quadphase's library defines
+    /// (UpdatePairsWith, QueryWith, RayCastWith): a program that calls them itself runs only on quadphase's
+    /// libbox2d. To build one program for both libraries, compile it against stock's headers (installed in
+    /// include/quadphase-box2d-stock): it then runs on either, its own copies of stock's templates finding
+    /// nothing on quadphase's unless QUADPHASE_STOCK_TREE=1 keeps a stock tree (see docs/design.md, "Binary
+    /// compatibility"). Everything else in this header but ShiftOrigin, and all of b2World's API, runs on either
+    /// library.
     template <typename T>
     void UpdatePairs(T* callback);
 
@@ -104,20 +116,23 @@ public:
     template <typename T>
     void RayCast(T* callback, const b2RayCastInput& input) const;
 
-    /// quadphase: the depth of the static quadtree (its levels are 0..depth). O(1).
+    /// Get the height of the embedded tree.
+    /// quadphase: b2DynamicTree's statistics of m_tree, inline (stock's header calls m_tree's; written out here
+    /// over the same members, so a program built against this header needs nothing stock's library lacks): 0 on
+    /// quadphase's library, whose m_tree holds no tree, only the proxies' records. The quadtree's own shape (depth, crowding) is in quadphase::GetStats.
     int32 GetTreeHeight() const;
 
-    /// quadphase: the number of proxies in the most crowded cell, the grid's counterpart of imbalance. O(cells).
+    /// Get the balance of the embedded tree (quadphase: 0, see GetTreeHeight).
     int32 GetTreeBalance() const;
 
-    /// quadphase: the mean number of proxies per occupied cell (1 is ideal; large values mean crowded cells and
-    /// more candidate tests per query). O(cells).
+    /// Get the quality metric of the embedded tree (quadphase: 0, see GetTreeHeight).
     float GetTreeQuality() const;
 
     /// Shift the world origin. Useful for large worlds.
     /// The shift formula is: position -= newOrigin
     /// @param newOrigin the new origin with respect to the old origin
-    /// quadphase: O(proxies); the quadtree's bounds move with the world.
+    /// quadphase: O(proxies); the quadtree's bounds move with the world. Out of line (inline in stock's header):
+    /// a program built against this header that calls it needs quadphase's library.
     void ShiftOrigin(const b2Vec2& newOrigin);
 
 private:
@@ -174,8 +189,9 @@ private:
 
     int32 m_proxyCount;
 
-    // In stock's int32* m_moveBuffer: the quadtree and the adapter's state (the library's
-    // quadphase::detail::BroadPhaseState), opaque here.
+    // In stock's int32* m_moveBuffer: points into a block of the library's that starts with the quadtree's and the
+    // adapter's state (the library's quadphase::detail::BroadPhaseState), opaque here. With QUADPHASE_STOCK_TREE=1
+    // (a real b2DynamicTree in m_tree), stock's move buffer follows, and the six members below are stock's.
     void* m_state;
     int32 m_moveCapacity; // 0
     int32 m_moveCount;    // 0: stock's inline UpdatePairs, compiled into a program, finds no moved proxy
@@ -187,9 +203,66 @@ private:
     int32 m_queryProxyId; // e_nullProxy
 };
 
+inline void* b2BroadPhase::GetUserData(int32 proxyId) const
+{
+    return 0 <= proxyId && proxyId < m_tree.nodeCapacity ? m_tree.nodes[proxyId].userData : nullptr;
+}
+
+inline bool b2BroadPhase::TestOverlap(int32 proxyIdA, int32 proxyIdB) const
+{
+    return b2TestOverlap(GetFatAABB(proxyIdA), GetFatAABB(proxyIdB));
+}
+
+inline const b2AABB& b2BroadPhase::GetFatAABB(int32 proxyId) const
+{
+    b2Assert(0 <= proxyId && proxyId < m_tree.nodeCapacity);
+    return m_tree.nodes[proxyId].aabb;
+}
+
 inline int32 b2BroadPhase::GetProxyCount() const
 {
     return m_proxyCount;
+}
+
+// The tree statistics: b2DynamicTree's GetHeight, GetMaxBalance and GetAreaRatio on m_tree, written out over its
+// members (the same loops and float operations), since m_tree is not declared a b2DynamicTree here.
+inline int32 b2BroadPhase::GetTreeHeight() const
+{
+    return m_tree.root == b2_nullNode ? 0 : m_tree.nodes[m_tree.root].height;
+}
+
+inline int32 b2BroadPhase::GetTreeBalance() const
+{
+    int32 maxBalance = 0;
+    for (int32 i = 0; i < m_tree.nodeCapacity; ++i)
+    {
+        const b2TreeNode* node = m_tree.nodes + i;
+        if (node->height <= 1)
+        {
+            continue;
+        }
+        const int32 balance = b2Abs(m_tree.nodes[node->child2].height - m_tree.nodes[node->child1].height);
+        maxBalance = b2Max(maxBalance, balance);
+    }
+    return maxBalance;
+}
+
+inline float b2BroadPhase::GetTreeQuality() const
+{
+    if (m_tree.root == b2_nullNode)
+    {
+        return 0.0f;
+    }
+    const float rootArea = m_tree.nodes[m_tree.root].aabb.GetPerimeter();
+    float totalArea = 0.0f;
+    for (int32 i = 0; i < m_tree.nodeCapacity; ++i)
+    {
+        if (m_tree.nodes[i].height >= 0)
+        {
+            totalArea += m_tree.nodes[i].aabb.GetPerimeter();
+        }
+    }
+    return totalArea / rootArea;
 }
 
 template <typename T>

@@ -43,32 +43,30 @@ constexpr int32_t RowMajorIndex(int level, int32_t x, int32_t y)
 }
 
 /// Cell containing (x, y)'s parent cell, as row-major index within `level - 1`. Requires level >= 1.
+/// (Single return statements, here and below: installed headers are C++11.)
 constexpr int32_t ParentIndex(int level, int32_t index)
 {
-    const int32_t side = LevelSide(level);
-    const int32_t x = index % side;
-    const int32_t y = index / side;
-    return RowMajorIndex(level - 1, x >> 1, y >> 1);
+    return RowMajorIndex(level - 1, (index % LevelSide(level)) >> 1, (index / LevelSide(level)) >> 1);
 }
 
 /// Row-major index within `level + 1` of child (i, j), i, j in {0, 1}, of cell `index` of `level`.
 constexpr int32_t ChildIndex(int level, int32_t index, int i, int j)
 {
-    const int32_t side = LevelSide(level);
-    const int32_t x = index % side;
-    const int32_t y = index / side;
-    return RowMajorIndex(level + 1, 2 * x + i, 2 * y + j);
+    return RowMajorIndex(level + 1, 2 * (index % LevelSide(level)) + i, 2 * (index / LevelSide(level)) + j);
 }
 
-/// Spreads the bits of v apart: bit k moves to bit 2k.
+/// One step of SpreadBits: (v | v << shift) & mask.
+constexpr uint32_t SpreadStep(uint32_t v, int shift, uint32_t mask)
+{
+    return (v | (v << shift)) & mask;
+}
+
+/// Spreads the bits of v apart: bit k moves to bit 2k (the low 16 bits of v).
 constexpr uint32_t SpreadBits(uint32_t v)
 {
-    v &= 0x0000ffffu;
-    v = (v | (v << 8)) & 0x00ff00ffu;
-    v = (v | (v << 4)) & 0x0f0f0f0fu;
-    v = (v | (v << 2)) & 0x33333333u;
-    v = (v | (v << 1)) & 0x55555555u;
-    return v;
+    return SpreadStep(
+        SpreadStep(SpreadStep(SpreadStep(v & 0x0000ffffu, 8, 0x00ff00ffu), 4, 0x0f0f0f0fu), 2, 0x33333333u),
+        1, 0x55555555u);
 }
 
 /// The paper's creation-order index (its Figure 1) of the cell at `row`, `column` (both from 0).

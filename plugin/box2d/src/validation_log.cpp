@@ -1,0 +1,94 @@
+// QUADPHASE_VALIDATE_LOG: see validation_log.h.
+#include "validation_log.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <mutex>
+
+namespace quadphase
+{
+namespace detail
+{
+namespace
+{
+
+struct ValidationLog
+{
+    std::mutex mutex;
+    std::FILE* file = nullptr;
+    int64_t every = 100;
+    int64_t lastSummaryAt = 0;
+
+    ValidationLog()
+    {
+        const char* path = std::getenv("QUADPHASE_VALIDATE_LOG");
+        if (path == nullptr || path[0] == '\0')
+        {
+            return;
+        }
+        file = std::fopen(path, "a");
+        if (file == nullptr)
+        {
+            std::fprintf(
+                stderr, "quadphase: validation: cannot open QUADPHASE_VALIDATE_LOG=%s for appending\n", path);
+            return;
+        }
+        const char* every_text = std::getenv("QUADPHASE_VALIDATE_LOG_EVERY");
+        if (every_text != nullptr && std::atoll(every_text) > 0)
+        {
+            every = std::atoll(every_text);
+        }
+    }
+
+    // Called with `mutex` held. One fprintf per line, then fflush: the line is in the file before the call returns.
+    void Line(const char* text)
+    {
+        std::fprintf(file, "quadphase[%ld]: validation: %s\n", static_cast<long>(getpid()), text);
+        std::fflush(file);
+    }
+};
+
+// Never destroyed: validators may report from other static destructors and atexit handlers.
+ValidationLog& Log()
+{
+    static ValidationLog* log = new ValidationLog;
+    return *log;
+}
+
+} // namespace
+
+void LogValidationMismatch(const std::string& what)
+{
+    ValidationLog& log = Log();
+    if (log.file == nullptr)
+    {
+        return;
+    }
+    std::lock_guard<std::mutex> lock(log.mutex);
+    log.Line(("mismatch: " + what).c_str());
+}
+
+void LogValidationTotals(int64_t checks, int64_t mismatches, bool final)
+{
+    ValidationLog& log = Log();
+    if (log.file == nullptr)
+    {
+        return;
+    }
+    std::lock_guard<std::mutex> lock(log.mutex);
+    if (!final && checks / log.every == log.lastSummaryAt / log.every)
+    {
+        return;
+    }
+    log.lastSummaryAt = checks;
+    char text[160];
+    std::snprintf(text, sizeof text, "%lld UpdatePairs checked, %lld mismatches%s",
+                  static_cast<long long>(checks), static_cast<long long>(mismatches),
+                  final ? " (at exit)" : "");
+    log.Line(text);
+}
+
+} // namespace detail
+} // namespace quadphase

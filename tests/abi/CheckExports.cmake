@@ -1,0 +1,89 @@
+# cmake -P driver of abi_exports and abi_abidiff: quadphase's libbox2d.so.2 against stock's, built from the same
+# source with the same flags.
+#   -DMODE=exports|abidiff -DSTOCK=<stock libbox2d.so.2> -DQUADPHASE=<quadphase's> -DNM=<nm>
+#   -DABIDIFF=<abidiff> -DSUPPRESSIONS=<abidiff.suppr>
+# exports: every dynamic symbol stock's library defines, quadphase's defines too; beyond them, only quadphase's
+#          extras: names in namespace quadphase, and b2BroadPhase's ShiftOrigin, QueryWith, RayCastWith and
+#          UpdatePairsWith (out of line here, inline or absent in stock; see b2_broad_phase.h). Prints the counts.
+# abidiff: abidiff finds no removed or changed function or variable and no changed type beyond the reviewed
+#          suppressions (added symbols are the exports check's); without the suppressions it must report the
+#          b2BroadPhase change, or it read no debug information and proved nothing.
+cmake_minimum_required(VERSION 3.20)
+
+if(MODE STREQUAL "exports")
+    function(dynamic_symbols out lib)
+        execute_process(COMMAND "${NM}" -D --defined-only "${lib}" OUTPUT_VARIABLE text RESULT_VARIABLE rc)
+        if(NOT rc EQUAL 0)
+            message(FATAL_ERROR "${NM} failed on ${lib}")
+        endif()
+        string(REGEX MATCHALL "[^\n]+" lines "${text}")
+        set(names "")
+        set(weak "")
+        foreach(line IN LISTS lines)
+            if(line MATCHES " ([A-Za-z]) ([^ ]+)$")
+                set(type "${CMAKE_MATCH_1}")
+                set(name "${CMAKE_MATCH_2}")
+                list(APPEND names "${name}")
+                if(type STREQUAL "W" OR type STREQUAL "V")
+                    list(APPEND weak "${name}")
+                endif()
+            endif()
+        endforeach()
+        list(REMOVE_DUPLICATES names)
+        set(${out} "${names}" PARENT_SCOPE)
+        set(${out}_weak "${weak}" PARENT_SCOPE)
+    endfunction()
+    dynamic_symbols(stock "${STOCK}")
+    dynamic_symbols(ours "${QUADPHASE}")
+    list(LENGTH stock n_stock)
+    list(LENGTH ours n_ours)
+    set(missing "")
+    foreach(s IN LISTS stock)
+        # A weak (vague-linkage) template instance stock's compiler chose not to inline, such as
+        # b2BroadPhase::UpdatePairs<b2ContactManager> in an -O1 build, is one a program instantiates itself.
+        if(NOT s IN_LIST ours AND NOT s IN_LIST stock_weak)
+            list(APPEND missing "${s}")
+        endif()
+    endforeach()
+    set(extras "")
+    set(unexpected "")
+    foreach(s IN LISTS ours)
+        if(s IN_LIST stock)
+            continue()
+        endif()
+        if(s MATCHES "^_Z(N|NK|T[VIS]N)9quadphase"
+           OR s MATCHES "^_ZNK?12b2BroadPhase(11ShiftOrigin|9QueryWith|11RayCastWith|15UpdatePairsWith)E")
+            list(APPEND extras "${s}")
+        else()
+            list(APPEND unexpected "${s}")
+        endif()
+    endforeach()
+    list(LENGTH extras n_extras)
+    message(STATUS "exported symbols: stock ${n_stock}, quadphase ${n_ours} (stock's + ${n_extras} extras)")
+    if(n_stock LESS 400)
+        message(FATAL_ERROR "stock's library exports only ${n_stock} symbols: nm read nothing useful")
+    endif()
+    if(missing)
+        string(REPLACE ";" "\n" text "${missing}")
+        message(FATAL_ERROR "quadphase's library lacks symbols stock's exports:\n${text}")
+    endif()
+    if(unexpected)
+        string(REPLACE ";" "\n" text "${unexpected}")
+        message(FATAL_ERROR "quadphase's library exports symbols beyond stock's and the extras:\n${text}")
+    endif()
+elseif(MODE STREQUAL "abidiff")
+    execute_process(COMMAND "${ABIDIFF}" --no-added-syms "${STOCK}" "${QUADPHASE}"
+        OUTPUT_VARIABLE raw RESULT_VARIABLE raw_rc)
+    if(raw_rc EQUAL 0 OR NOT raw MATCHES "b2ContactManager")
+        message(FATAL_ERROR "abidiff without suppressions did not see b2BroadPhase's private members change "
+                            "(no debug information?):\n${raw}")
+    endif()
+    execute_process(COMMAND "${ABIDIFF}" --no-added-syms --suppressions "${SUPPRESSIONS}" "${STOCK}" "${QUADPHASE}"
+        OUTPUT_VARIABLE out RESULT_VARIABLE rc)
+    message(STATUS "abidiff (exit ${rc}):\n${out}")
+    if(NOT rc EQUAL 0)
+        message(FATAL_ERROR "abidiff reports ABI differences beyond ${SUPPRESSIONS}")
+    endif()
+else()
+    message(FATAL_ERROR "MODE must be exports or abidiff")
+endif()
