@@ -212,64 +212,58 @@ int32 b2BroadPhase::CreateProxy(const b2AABB& aabb, void* userData)
 {
     BroadPhaseState& state = State(m_state);
     const int32 proxyId = state.core.CreateProxy(ToBox(aabb), userData);
+    int32 handedOut = proxyId;
     if (state.stockTree != nullptr)
     {
         // Stock's CreateProxy on the tree, whose id is the one handed out.
-        const int32 treeId = state.stockTree->CreateProxy(aabb, userData);
-        Map(state.coreOfTree, treeId, proxyId);
-        Map(state.treeOfCore, proxyId, treeId);
-        BufferMove(treeId);
-        m_proxyCount = state.core.GetProxyCount();
-        if (state.trace != nullptr)
-        {
-            state.trace->Add({quadphase::TraceOp::Create, proxyId, ToBox(aabb), {}});
-        }
-        if (state.shadow)
-        {
-            state.shadow->OnCreate(proxyId, aabb);
-            SyncValidationTotals(state);
-        }
-        return treeId;
+        handedOut = state.stockTree->CreateProxy(aabb, userData);
+        Map(state.coreOfTree, handedOut, proxyId);
+        Map(state.treeOfCore, proxyId, handedOut);
+        BufferMove(handedOut);
     }
-    if (proxyId >= m_tree.nodeCapacity)
+    else
     {
-        // Grows the records by doubling (amortised O(1)), then hands the new array to the core, which copies every
-        // live fat box into it.
-        const int32 capacity = b2Max(b2Max(16, 2 * m_tree.nodeCapacity), proxyId + 1);
-        b2TreeNode* nodes = static_cast<b2TreeNode*>(b2Alloc(capacity * int32(sizeof(b2TreeNode))));
-        if (m_tree.nodes != nullptr)
+        // The record of the new proxy in m_tree's node array, as stock's inline readers expect it.
+        if (proxyId >= m_tree.nodeCapacity)
         {
-            std::memcpy(nodes, m_tree.nodes, size_t(m_tree.nodeCapacity) * sizeof(b2TreeNode));
+            // Grows the records by doubling (amortised O(1)), then hands the new array to the core, which copies every
+            // live fat box into it.
+            const int32 capacity = b2Max(b2Max(16, 2 * m_tree.nodeCapacity), proxyId + 1);
+            b2TreeNode* nodes = static_cast<b2TreeNode*>(b2Alloc(capacity * int32(sizeof(b2TreeNode))));
+            if (m_tree.nodes != nullptr)
+            {
+                std::memcpy(nodes, m_tree.nodes, size_t(m_tree.nodeCapacity) * sizeof(b2TreeNode));
+            }
+            for (int32 i = m_tree.nodeCapacity; i < capacity; ++i)
+            {
+                b2TreeNode& node = nodes[i];
+                node.aabb.lowerBound.SetZero();
+                node.aabb.upperBound.SetZero();
+                node.userData = nullptr;
+                node.next = b2_nullNode;
+                node.child1 = b2_nullNode;
+                node.child2 = b2_nullNode;
+                node.height = -1;
+                node.moved = false;
+            }
+            b2Free(m_tree.nodes);
+            m_tree.nodes = nodes;
+            m_tree.nodeCapacity = capacity;
+            quadphase::BoxMirror mirror;
+            mirror.base = reinterpret_cast<unsigned char*>(nodes) + offsetof(b2TreeNode, aabb);
+            mirror.stride = sizeof(b2TreeNode);
+            mirror.capacity = capacity;
+            state.core.SetBoxMirror(mirror);
         }
-        for (int32 i = m_tree.nodeCapacity; i < capacity; ++i)
-        {
-            b2TreeNode& node = nodes[i];
-            node.aabb.lowerBound.SetZero();
-            node.aabb.upperBound.SetZero();
-            node.userData = nullptr;
-            node.next = b2_nullNode;
-            node.child1 = b2_nullNode;
-            node.child2 = b2_nullNode;
-            node.height = -1;
-            node.moved = false;
-        }
-        b2Free(m_tree.nodes);
-        m_tree.nodes = nodes;
-        m_tree.nodeCapacity = capacity;
-        quadphase::BoxMirror mirror;
-        mirror.base = reinterpret_cast<unsigned char*>(nodes) + offsetof(b2TreeNode, aabb);
-        mirror.stride = sizeof(b2TreeNode);
-        mirror.capacity = capacity;
-        state.core.SetBoxMirror(mirror);
+        // The core writes the records of the fat boxes it changes, but a new proxy's is the adapter's to write.
+        const quadphase::Box& fat = state.core.GetPool().Fat(proxyId);
+        b2TreeNode& node = m_tree.nodes[proxyId];
+        node.aabb.lowerBound.Set(fat.minX, fat.minY);
+        node.aabb.upperBound.Set(fat.maxX, fat.maxY);
+        node.userData = userData;
+        node.height = 0;
+        m_tree.nodeCount = state.core.GetProxyCount();
     }
-    // The core writes the records of the fat boxes it changes, but a new proxy's is the adapter's to write.
-    const quadphase::Box& fat = state.core.GetPool().Fat(proxyId);
-    b2TreeNode& node = m_tree.nodes[proxyId];
-    node.aabb.lowerBound.Set(fat.minX, fat.minY);
-    node.aabb.upperBound.Set(fat.maxX, fat.maxY);
-    node.userData = userData;
-    node.height = 0;
-    m_tree.nodeCount = state.core.GetProxyCount();
     m_proxyCount = state.core.GetProxyCount();
     if (state.trace != nullptr)
     {
@@ -280,7 +274,7 @@ int32 b2BroadPhase::CreateProxy(const b2AABB& aabb, void* userData)
         state.shadow->OnCreate(proxyId, aabb);
         SyncValidationTotals(state);
     }
-    return proxyId;
+    return handedOut;
 }
 
 void b2BroadPhase::DestroyProxy(int32 id)
