@@ -142,7 +142,7 @@ def parse_args():
                     help="multiply every scene size by this (development: 0.1 for a smoke test)")
     ap.add_argument("--circles-seconds", type=float, default=None,
                     help="time cap per circles search at automatic depth (quick 10, full 40; fixed depths get 0.4x)")
-    ap.add_argument("--frames", action="store_true", help="only the frames section (15-25 min on 2 cores): results/frames.*")
+    ap.add_argument("--frames", action="store_true", help="only the frames section (about 15 min on 2 cores): results/frames.*")
     ap.add_argument("--frame-steps", type=int, default=600, help="--frames: steps per run from the first (600)")
     ap.add_argument("--report-only", action="store_true", help="rewrite the outputs from the last run's raw results")
     a = ap.parse_args()
