@@ -13,6 +13,9 @@ One machine, one run, one Box2D source and set of flags per optimisation level (
   queries  qp-query-stock and qp-query-quadtree: QueryAABB, short and long rays, a mass SetTransform then
            queries, through b2World; hits checked equal;
   circles  the paper's protocol: the most circles under 20 ms per frame (qp-circles).
+--frames runs only the frames section (issue 31): every in-engine scene from its first step as a game runs it,
+stock and quadphase (1 and 2 threads, its defaults, a job system), each also beside a busy thread; per-step
+b2Profile broadphase and step p50/p99/max/total -> bench/results/frames.{md,csv,png}.
 The first level runs every part; further levels run step, phases and the replay's headline engines. Writes
 bench/results/{step,phases,replay,replay_phases,peers,queries,circles}.csv, bench.json, the PNG plots and bench/RESULTS.md.
 See bench/README.md for what each number means.
@@ -102,6 +105,14 @@ CIRCLES = {
 }
 REFERENCE = {"circles_stock": 52000, "circles_brute": 6200, "replay_stock_particles50k": 490,
              "replay_stock_rain64k": 510, "step_bp_stock_particles10k": 3.3, "step_bp_stock_particles50k": 43.9}
+# Frames (--frames, issue 31): (name, build, qp-step options), each also with --busy; small scenes count (item 5).
+FRAME_ENGINES = [("stock", "stock", []), ("1 thread", "quadtree", ["--threads", 1]),
+                 ("2 threads", "quadtree", ["--threads", 2]), ("defaults", "quadtree", ["--threads", "default"]),
+                 ("job system", "quadtree", ["--threads", "default", "--jobs", 2])]
+FRAME_SIZES = {"pyramid": [10, 20, 50], "terrain": [40, 1000], "mixed": [1000]}  # else the quick step sizes
+FRAME_PLOTS = [("pyramid", 10), ("tumbler", 400), ("rain", 4000)]
+FRAME_STATS = ("p50", "p99", "max", "total")
+TICK = {True: " ✓", False: " **✗**"}
 TOOLS = ("qp-record", "qp-replay", "qp-step-stock", "qp-step-quadtree",
          "qp-query-stock", "qp-query-quadtree", "qp-circles")
 TEXT = report.prose(os.path.join(HERE, "prose", "bench.md"))  # the report's prose
@@ -131,6 +142,8 @@ def parse_args():
                     help="multiply every scene size by this (development: 0.1 for a smoke test)")
     ap.add_argument("--circles-seconds", type=float, default=None,
                     help="time cap per circles search at automatic depth (quick 10, full 40; fixed depths get 0.4x)")
+    ap.add_argument("--frames", action="store_true", help="only the frames section (about 15 min on 2 cores): results/frames.*")
+    ap.add_argument("--frame-steps", type=int, default=600, help="--frames: steps per run from the first (600)")
     ap.add_argument("--report-only", action="store_true", help="rewrite the outputs from the last run's raw results")
     a = ap.parse_args()
     a.profile = "full" if a.full else "quick"
@@ -200,6 +213,8 @@ def level_runner(args, level, build_dir, append=False):
 def main():
     args = parse_args()
     os.makedirs(args.results, exist_ok=True)
+    if args.frames:
+        return frames(args)
     if args.report_only:
         info = report.read_json(os.path.join(args.work, "machine.json"))
         info["levels"] = [tuple(x) for x in info["levels"]]
@@ -267,6 +282,86 @@ def main():
     report.write_json(os.path.join(args.work, "machine.json"), info)
     write_outputs(args, info, {lv: r.results() for lv, _, r in runners})
     print(f"bench.py: done in {time.time() - t_start:.0f} s; wrote {args.summary} and {args.results}/", flush=True)
+
+
+def frames(args):
+    """--frames: every frame engine on every scene (also with --busy) for --rounds rounds, then frames.{md,csv,png}."""
+    lv, d = args.levels[0]
+    runner = run.Runner("bench.py", os.path.join(d, "bench"), os.path.join(args.work, "frames"), "frames",
+                        TOOLS[2:4], args.report_only, wait_quiet=args.wait_quiet, quiet_cpus=args.quiet_cpus)
+    info = report.read_json(runner.jsonl + ".json") if args.report_only else dict(machine.describe(d), t0=time.time())
+    units = [] if args.report_only else [
+        (s, n, e, busy) for s, lo, hi, dflt in (l.split("\t")[0].split() for l in runner.run(
+            "qp-step-stock", "--list")[1].splitlines()) for n in FRAME_SIZES.get(s) or STEP_SIZES["quick"].get(s)
+        or [int(dflt)] for e in FRAME_ENGINES for busy in (0, 1)]
+    bar = run.Progress(len(units) * args.rounds)
+    for rnd in range(args.rounds if units else 0):
+        runner.wait_quiet() if args.wait_quiet > 0 else None
+        for s, n, (name, build, opts), busy in run.shuffled(units, args.seed + rnd):
+            runner.run(f"qp-step-{build}", "--scene", s, "--size", n, "--seed", args.seed, "--warmup", 0, "--steps",
+                       args.frame_steps, *opts, *(["--busy"] if busy else []), "--per-step", "--json", runner.jsonl,
+                       "--label", f"frames|{name}|round={rnd}", env={"OMP_NUM_THREADS": None})
+            bar.step(f"r{rnd + 1} {s} {n} {name}{' busy' if busy else ''}")
+    bar.end()
+    if units:
+        info.update(minutes=(time.time() - info.pop("t0")) / 60, rounds=args.rounds, steps=args.frame_steps,
+                    quiet_samples=runner.quiet_samples, loadavg_end=open("/proc/loadavg").read().split()[:3])
+        report.write_json(runner.jsonl + ".json", info)
+    groups = {}
+    for r in runner.results():
+        groups.setdefault((r["scene"], r["size"], r["busy"], r["label"].split("|")[1]), []).append(r)
+    rows = [dict(scene=s, size=n, busy=b, engine=e, rounds=len(rs), proxies=rs[0]["proxies"], **{
+        f"{m}_{st}": med([r[f"{f}_ms_{st}"] for r in rs]) for m, f in (("bp", "broadphase"), ("step", "step"))
+        for st in FRAME_STATS})
+        for (s, n, b, e), rs in sorted(groups.items())]
+    report.write_csv(os.path.join(args.results, "frames.csv"), rows)
+    by = {(r["scene"], r["size"], r["busy"], r["engine"]): r for r in rows}
+    head, misses = [], set()
+    for s, n, b in sorted({k[:3] for k in by}):
+        a, one = (by.get((s, n, b, e)) or {} for e in ("stock", "1 thread"))
+        cells = [f"{s} {n}", "yes" if b else "no", fmt(a.get("proxies"), 0)]
+        for e in ("defaults", "job system"):
+            q = by.get((s, n, b, e)) or {}
+            ok = [(ratio(a.get("bp_total"), q.get("bp_total")) or 0) >= 1.0,
+                  (ratio(one.get("bp_total"), q.get("bp_total")) or 0) >= 0.95,
+                  q.get("bp_max", 1e9) <= 1.5 * a.get("bp_max", 0) + 0.5]
+            misses.update(f"{s} {n}{' busy' if b else ''} ({e})" for o in ok if not o)
+            cells += [f"{fmt(ratio(a.get('bp_total'), q.get('bp_total')))}{TICK[ok[0]]}",
+                      f"{fmt(ratio(one.get('bp_total'), q.get('bp_total')))}{TICK[ok[1]]}",
+                      f"{fmt(q.get('bp_max'), 3)} / {fmt(a.get('bp_max'), 3)}{TICK[ok[2]]}"]
+        head.append(cells)
+    L = ["# Frames: per-step broadphase and step, as a game runs the library (issue 31)", "",
+         TEXT["frames"].format(steps=info.get("steps"), rounds=info.get("rounds"), minutes=info.get("minutes", 0)), ""]
+    if frames_plot(args, groups):
+        L += ["![ms per step over the run, stock against quadphase's defaults](frames.png)", ""]
+    L += ["## Goals", ""] + table(
+        ["scene", "busy", "proxies at the end", "bp total stock ÷ defaults (≥1)", "1 thread ÷ defaults (≥0.95)",
+         "worst bp step ms: defaults / stock (≤1.5×+0.5)", "stock ÷ job system", "1 thread ÷ job system",
+         "worst: job system / stock"], head)
+    L += ["", "Misses: " + (", ".join(sorted(misses)) or "none") + ".", "", "## Per step, ms", ""]
+    L += table(["scene", "busy", "engine"] + [f"{m} {st}" for m in ("bp", "step") for st in FRAME_STATS], [
+        [f"{r['scene']} {r['size']}", "yes" if r["busy"] else "no", r["engine"]]
+        + [fmt(r[f"{m}_{st}"], 3) for m in ("bp", "step") for st in FRAME_STATS] for r in rows])
+    report.write_lines(os.path.join(args.results, "frames.md"), L + [""] + report.machine_section(info))
+    print(f"bench.py: wrote {args.results}/frames.md, frames.csv", flush=True)
+
+
+def frames_plot(args, groups):
+    """ms per step over the run (round 0), stock against the defaults, not busy: whole step and broadphase."""
+    plt = plot.pyplot("bench.py")
+    cases = [c for c in FRAME_PLOTS if (c[0], c[1], 0, "stock") in groups]
+    if plt is None or not cases:
+        return None
+    fig, axes = plt.subplots(2, len(cases), figsize=(5 * len(cases), 6), squeeze=False)
+    for col, (s, n) in enumerate(cases):
+        for row, (key, what) in enumerate((("steps_step_ms", "whole step"), ("steps_bp_ms", "broadphase"))):
+            for e in ("stock", "defaults"):
+                r = min(groups.get((s, n, 0, e), []), key=lambda r: r.get("rep_round", 0), default=None)
+                if r:
+                    axes[row][col].plot(r[key], label=f"{'quadphase, ' if e != 'stock' else ''}{e}", lw=0.8)
+            axes[row][col].set(title=f"{s} {n}: {what}", xlabel="step", ylabel="ms")
+            axes[row][col].legend()
+    return plot.save(plt, fig, os.path.join(args.results, "frames.png"), 90)
 
 
 def run_one(runner, args, part, u, rnd):

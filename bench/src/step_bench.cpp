@@ -5,20 +5,29 @@
 //
 //   qp-step-<variant> --scene NAME --size N [--seed S] [--warmup W] [--steps S] [--threads T|default]
 //                     [--ccd scene|on|off] [--json FILE] [--label TEXT] [--validate] [--timing]
+//                     [--busy] [--jobs N]
 //                     (--list prints the scenes: name, size range and default, then tab-separated what the size
 //                     counts and a description)
 //
 // Builds the scene, steps it W times untimed (warm-up), then S timed steps, and appends one JSON line with,
 // per timed step, the median and the mean of Box2D's own b2Profile fields (step, collide, solve, broadphase,
-// solveTOI; milliseconds), the mean contact count, the new pairs per step that reached Box2D's contact filter
-// (the same count in both builds), the process's peak resident memory (VmHWM) and, for the quadtree build,
-// the quadtree's pairs reported, FindPairs time per step (Stats::pairSeconds), heap bytes per proxy
-// (Stats::memoryBytes) and threads. --threads sets quadphase::Config::threads (0: OpenMP's default);
-// "default" leaves the Config as the adapter made it (Box2D's defaults: the thread count follows
-// OMP_NUM_THREADS); the stock build accepts 1 or default. --ccd sets b2World::SetContinuousPhysics (default
-// "scene": as the scene built it; every scene leaves Box2D's default, on); the JSON line says which. The
+// solveTOI; milliseconds), for step and broadphase also p50 (the median again), p99 (nearest rank), the
+// maximum and the total over the timed steps (a player sees the worst frames, not the median), the mean
+// contact count, the new pairs per step that reached Box2D's contact filter (the same count in both builds),
+// the process's peak resident memory (VmHWM) and, for the quadtree build, the quadtree's pairs reported,
+// FindPairs time per step (Stats::pairSeconds), heap bytes per proxy (Stats::memoryBytes) and threads.
+// --threads sets quadphase::Config::threads (0: OpenMP's default); "default" leaves the Config as the adapter
+// made it (the library's defaults: parallel only from Config::parallelMinProxies proxies, on as many threads
+// as OMP_NUM_THREADS allows); the stock build accepts 1 or default. --ccd sets
+// b2World::SetContinuousPhysics (default "scene": as the scene built it; every scene leaves Box2D's default,
+// on); the JSON line says which. The
 // quadtree build's --validate checks every UpdatePairs against a shadow b2DynamicTree (exit status 1 on a
 // mismatch) and --timing also times proxy updates; the side-by-side demo (scripts/demo.sh) uses both.
+// --busy runs a second thread that spins from the warm-up to the last timed step, as a game's renderer
+// would beside its physics thread. --jobs N (quadtree build) hands pair generation to a job system of N
+// workers (quadphase_jobs/job_system.h: a std::thread pool) through quadphase::SetTaskSystem, as a game with
+// its own job system would; --threads still applies (with --threads default, the library's defaults decide
+// whether a step goes parallel at all).
 //
 // Phases (of the timed steps, from the world's state after each step, untimed): with D dynamic bodies,
 // "falling" while fewer than 1% of them touch a static body (nothing has landed yet: in rain, until the
@@ -33,11 +42,14 @@
 // contacts); the time-of-impact phase's broadphase work is in solveTOI. The time inside the broadphase alone
 // is measured by the replay (qp-replay*), on a recorded trace of the same scene.
 #include <algorithm>
+#include <atomic>
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "box2d/box2d.h"
@@ -47,6 +59,9 @@
 
 #include "box2d_variant.h"
 #include "phase.h"
+#if QUADPHASE_VARIANT_QUADPHASE
+#include "quadphase_jobs/job_system.h"
+#endif
 
 namespace
 {
@@ -77,8 +92,8 @@ int main(int argc, char** argv)
 {
     namespace scenes = quadphase::scenes;
     const Args args(argc, argv, "qp-step-" + std::string(kVariant),
-                    {"scene", "size", "seed", "warmup", "steps", "threads", "ccd", "json", "label"},
-                    {"list", "per-step", "validate", "timing"});
+                    {"scene", "size", "seed", "warmup", "steps", "threads", "ccd", "json", "label", "jobs"},
+                    {"list", "per-step", "validate", "timing", "busy"});
     if (args.Has("list"))
     {
         for (const scenes::SceneInfo& info : scenes::AllScenes())
@@ -90,14 +105,16 @@ int main(int argc, char** argv)
     }
     const std::string ccd = args.Get("ccd", "scene");
     const std::string threads = args.Get("threads", "1");
-    const bool validate = args.Has("validate"), timing = args.Has("timing");
+    const bool validate = args.Has("validate"), timing = args.Has("timing"), busy = args.Has("busy");
+    const int jobs = int(args.GetIntIn("jobs", 0, 0, 256));
     args.Check(
         args.Has("scene") && args.Has("size") && (ccd == "scene" || ccd == "on" || ccd == "off") &&
-            (kQuadtree || !(validate || timing)),
+            (kQuadtree || !(validate || timing || jobs > 0)),
         "usage: qp-step-%s --scene NAME --size N [--seed S] [--warmup W] [--steps S]"
         " [--threads T|default]\n"
         "       [--ccd scene|on|off] [--json FILE] [--label TEXT] [--per-step] [--validate] [--timing]\n"
-        "       (--list: scene names and size ranges; --validate and --timing: quadtree build only)\n"
+        "       [--busy] [--jobs N]\n"
+        "       (--list: scene names and size ranges; --validate, --timing, --jobs: quadtree build only)\n"
         "scenes: %s\n",
         kVariant, scenes::SceneNameList().c_str());
     const auto sceneId = scenes::ParseSceneName(args.Get("scene"));
@@ -116,6 +133,9 @@ int main(int argc, char** argv)
     }
 
     CountingFilter filter; // outlives the world
+#if QUADPHASE_VARIANT_QUADPHASE
+    std::unique_ptr<qpjobs::JobSystem> jobSystem; // outlives the world too (SetTaskSystem's contract)
+#endif
     scenes::Scene scene;
     const int64_t build0 = NowNs();
     try
@@ -143,7 +163,24 @@ int main(int argc, char** argv)
     {
         quadphase::SetTiming(world, true);
     }
+    if (jobs > 0)
+    {
+        jobSystem = std::make_unique<qpjobs::JobSystem>(jobs);
+        quadphase::SetTaskSystem(world, jobSystem->Tasks());
+    }
 #endif
+    std::atomic<bool> stopBusy{false};
+    std::thread busyThread;
+    if (busy)
+    {
+        busyThread = std::thread([&stopBusy] {
+            volatile uint64_t spins = 0; // work the compiler cannot drop
+            while (!stopBusy.load(std::memory_order_relaxed))
+            {
+                spins = spins + 1;
+            }
+        });
+    }
 
     Phase phase = Falling;
     double contactsAll = 0.0; // over the warm-up steps too
@@ -184,6 +221,11 @@ int main(int argc, char** argv)
         stepAwake.push_back(AwakeDynamic(world));
     }
     const int64_t end = NowNs();
+    if (busy)
+    {
+        stopBusy.store(true);
+        busyThread.join();
+    }
     const double wall = double(end - t0) * 1e-9;
     char positionHash[32];
     std::snprintf(positionHash, sizeof positionHash, "%016" PRIx64, scenes::HashBodyPositions(world));
@@ -214,6 +256,16 @@ int main(int argc, char** argv)
         .Num("solve_ms_mean", Mean(solve))
         .Num("broadphase_ms_mean", Mean(broadphase))
         .Num("toi_ms_mean", Mean(toi))
+        .Num("step_ms_p50", Median(step))
+        .Num("step_ms_p99", Quantile(step, 0.99))
+        .Num("step_ms_max", Quantile(step, 1.0))
+        .Num("step_ms_total", Mean(step) * steps)
+        .Num("broadphase_ms_p50", Median(broadphase))
+        .Num("broadphase_ms_p99", Quantile(broadphase, 0.99))
+        .Num("broadphase_ms_max", Quantile(broadphase, 1.0))
+        .Num("broadphase_ms_total", Mean(broadphase) * steps)
+        .Int("busy", busy ? 1 : 0)
+        .Int("jobs", jobs)
         .Num("contacts_mean", contacts / steps)
         .Num("new_pairs_per_step", double(filter.calls - filtered0) / steps)
         .Int("new_pairs", filter.calls - filtered0)

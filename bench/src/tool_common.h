@@ -31,6 +31,7 @@ using quadphase::tools::Mean;
 using quadphase::tools::Median;
 using quadphase::tools::PeakRss;
 using quadphase::tools::ProcField;
+using quadphase::tools::Quantile;
 
 using Clock = std::chrono::steady_clock;
 
