@@ -23,8 +23,9 @@ constexpr bool kQuadtree = false;
 namespace qpbench
 {
 
-/// --threads: "default" leaves the adapter's Config as it is (Box2D's defaults: the quadtree follows
-/// OMP_NUM_THREADS); a number sets quadphase::Config::threads. The stock build is single-threaded: only 1 or
+/// --threads: "default" leaves the adapter's Config as it is (the library's defaults: threads = 0, parallel only
+/// in scenes of Config::parallelMinProxies proxies and up, on OMP_NUM_THREADS threads); a number sets
+/// quadphase::Config::threads. The stock build is single-threaded: only 1 or
 /// "default". Exits with status 2 (after a message) for anything else.
 inline void ApplyThreads(b2World& world, const std::string& value)
 {
