@@ -30,8 +30,11 @@ ROWS = [("bodies", "bodies", 0, False), ("fixtures (proxies)", "fixtures", 0, Fa
         ("contacts at end", "contacts_end", 0, False), ("contacts, mean per step", "contacts_mean_all_steps", 1, False),
         ("new pairs at filtering", "new_pairs", 0, False), ("  per measured step", "new_pairs_per_step", 1, False),
         ("broadphase ms/step, median", "broadphase_ms", 3, True),
-        ("broadphase ms/step, mean", "broadphase_ms_mean", 3, True), ("step ms, median", "step_ms", 3, True),
-        ("step ms, mean", "step_ms_mean", 3, True), ("  collide ms, mean", "collide_ms_mean", 3, True),
+        ("broadphase ms/step, mean", "broadphase_ms_mean", 3, True),
+        ("broadphase ms/step, p99", "broadphase_ms_p99", 3, True),
+        ("broadphase ms, worst step", "broadphase_ms_max", 3, True),
+        ("broadphase ms, total", "broadphase_ms_total", 2, True), ("step ms, median", "step_ms", 3, True),
+        ("step ms, mean", "step_ms_mean", 3, True), ("step ms, worst step", "step_ms_max", 3, True), ("  collide ms, mean", "collide_ms_mean", 3, True),
         ("  solve ms (incl. bp), mean", "solve_ms_mean", 3, True),
         ("  time of impact ms, mean", "toi_ms_mean", 3, True), ("build s", "build_s", 3, False),
         ("run s (all steps)", "run_s", 3, True)]
