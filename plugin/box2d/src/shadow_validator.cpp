@@ -122,7 +122,8 @@ void ShadowValidator::Mismatch(const std::string& what)
     {
         m_report.firstMismatch = what;
     }
-    detail::LogValidationMismatch(what); // QUADPHASE_VALIDATE_LOG: in the file before anything else can happen
+    detail::LogValidationMismatch(
+        what); // QUADPHASE_VALIDATE_LOG: in the file before anything else can happen
     ReportError(kValidationMismatch, "validation mismatch: %s", what.c_str());
 }
 
