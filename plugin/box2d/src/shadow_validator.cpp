@@ -122,8 +122,8 @@ void ShadowValidator::Mismatch(const std::string& what)
     {
         m_report.firstMismatch = what;
     }
-    detail::LogValidationMismatch(
-        what); // QUADPHASE_VALIDATE_LOG: in the file before anything else can happen
+    // QUADPHASE_VALIDATE_LOG: in the file before anything else can happen
+    detail::LogValidationMismatch(what);
     ReportError(kValidationMismatch, "validation mismatch: %s", what.c_str());
 }
 
