@@ -17,11 +17,7 @@ function(run_child mode count log)
     endif()
 endfunction()
 
-function(lines_matching out_var regex text)
-    string(REPLACE "\n" ";" lines "${text}")
-    list(FILTER lines INCLUDE REGEX "${regex}")
-    set(${out_var} "${lines}" PARENT_SCOPE)
-endfunction()
+include("${CMAKE_CURRENT_LIST_DIR}/../../cmake/ScriptLines.cmake") # lines_matching
 
 # abort and SIGKILL after 120 UpdatePairs: 12 desynchronising moves, summaries at 50 and 100.
 foreach(mode IN ITEMS abort kill)
