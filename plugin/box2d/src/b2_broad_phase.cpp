@@ -319,15 +319,11 @@ void b2BroadPhase::MoveProxy(int32 id, const b2AABB& aabb, const b2Vec2& displac
     {
         state.trace->Add({quadphase::TraceOp::Move, proxyId, ToBox(aabb), {displacement.x, displacement.y}});
     }
-    // Queued: Box2D moves its bodies one by one on this thread; the fat-AABB tests run as one batch, in UpdatePairs
-    // or when the queue is full.
-    state.core.QueueMove(proxyId, ToBox(aabb), {displacement.x, displacement.y});
-    // The record gets the move's outcome now, as stock's tree does inside MoveProxy, so that stock's inline
-    // GetFatAABB and TestOverlap, compiled into a program, never read a box the core has not applied yet. The record
-    // is the fat box after every earlier move (the core applies its queue before a proxy's second move), so the
-    // same test on it gives, bit for bit, the box the core writes again when it applies this move.
+    const quadphase::Box tight = ToBox(aabb);
+    const quadphase::Vec2 move{displacement.x, displacement.y};
     if (state.stockTree != nullptr)
     {
+        state.core.QueueMove(proxyId, tight, move);
         // Stock's MoveProxy on the tree, which updates its own node.
         if (proxyId >= 0 && state.stockTree->MoveProxy(id, aabb, displacement))
         {
@@ -336,12 +332,28 @@ void b2BroadPhase::MoveProxy(int32 id, const b2AABB& aabb, const b2Vec2& displac
     }
     else if (proxyId >= 0 && proxyId < m_tree.nodeCapacity && m_tree.nodes[proxyId].height == 0)
     {
-        // The core's branch-free test (SSE where available), then one 16-byte store, changed or not.
+        // The record gets the move's outcome now, as stock's tree does inside MoveProxy, so that stock's inline
+        // GetFatAABB and TestOverlap, compiled into a program, never read a box the core has not applied yet. The
+        // record is the fat box after every earlier move (the core applies its queue before a proxy's second
+        // move), so the core's own test on it (branch-free, SSE where available) gives, bit for bit, the box the
+        // core computes when it applies this move. A move that keeps its fat box therefore changes nothing in the
+        // core either, and is not queued: most moves, so the queue and its batch see only the fat boxes that
+        // changed. A box the core must report (non-finite, inverted) is queued whatever the test says.
         b2AABB& record = m_tree.nodes[proxyId].aabb;
         quadphase::Box stored;
         std::memcpy(&stored, static_cast<const void*>(&record), sizeof stored);
-        quadphase::RefattenSimd(Box2DFatPolicy(), stored, ToBox(aabb), {displacement.x, displacement.y});
+        const bool changed = quadphase::RefattenSimd(Box2DFatPolicy(), stored, tight, move);
+        if (changed || !quadphase::IsSaneSimd(tight))
+        {
+            // Queued before the record is written: a second move applies the queue, which rewrites the record
+            // with the first move's box.
+            state.core.QueueMove(proxyId, tight, move);
+        }
         std::memcpy(static_cast<void*>(&record), &stored, sizeof stored);
+    }
+    else
+    {
+        state.core.QueueMove(proxyId, tight, move); // an unknown id: the core reports it
     }
     if (state.shadow && state.core.GetPool().IsLive(proxyId))
     {
