@@ -180,6 +180,49 @@ TEST_CASE("Differential: Configure mid-sequence rebuilds without changing result
     }
 }
 
+TEST_CASE("Configure that changes only the executor rebuilds nothing: the pairs and their order stay",
+          "[differential][parallel]")
+{
+    // A rebuild re-tunes for the proxies of its moment, so it would change the layout, hence the pair order, from
+    // then on: a game that turns threads on or off must get the simulation it had.
+    for (int rep = 0; rep < 4; ++rep)
+    {
+        HarnessSettings s;
+        s.seed = 9300u + uint32_t(rep);
+        s.dist = kAllDists[(2 * rep + 1) % 7];
+        s.operations = 200;
+        Harness configured(s);
+        Harness untouched(s);
+        configured.Record(true);
+        untouched.Record(true);
+        INFO("case: " << Describe(s));
+        for (int round = 0; round < 4; ++round)
+        {
+            configured.Run();
+            untouched.Run();
+            Config c = configured.Quadtree().GetConfig();
+            c.threads = 1 + (round % 3);
+            c.schedule = round % 2 == 0 ? Schedule::Static : Schedule::Dynamic;
+            c.chunk = round;
+            c.parallelThreshold = round % 2 == 0 ? 0 : 128;
+            c.parallelMinProxies = round;
+            const int64_t rebuilds = configured.Quadtree().GetStats().rebuilds;
+            configured.Quadtree().Configure(c);
+            REQUIRE(configured.Quadtree().GetStats().rebuilds == rebuilds);
+            REQUIRE(configured.Quadtree().GetConfig().threads == c.threads);
+            REQUIRE(configured.Quadtree().Validate() == "");
+        }
+        REQUIRE(configured.History().size() == untouched.History().size());
+        REQUIRE(configured.History() == untouched.History());
+        // and a layout setting still rebuilds
+        Config c = configured.Quadtree().GetConfig();
+        c.cellToProxyRatio *= 2.0f;
+        const int64_t rebuilds = configured.Quadtree().GetStats().rebuilds;
+        configured.Quadtree().Configure(c);
+        REQUIRE(configured.Quadtree().GetStats().rebuilds == rebuilds + 1);
+    }
+}
+
 TEST_CASE("Differential: extreme coordinate scales (1e37 and 1e-30 worlds)", "[differential]")
 {
     // At 1e37 the region the automatic bounds want overflows to infinity (the fallback side is used and

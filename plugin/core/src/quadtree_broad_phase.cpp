@@ -2,6 +2,7 @@
 // each: quadtree_move_queue.cpp, quadtree_pairs.cpp, quadtree_queries.cpp, quadtree_tuning.cpp, quadtree_checks.cpp.
 #include "quadphase/quadtree_broad_phase.h"
 
+#include <cstring>
 #include <new>
 #include <stdexcept>
 #include <string>
@@ -16,6 +17,23 @@ using detail::SecondsSince;
 
 namespace
 {
+
+bool SameBits(float a, float b)
+{
+    return std::memcmp(&a, &b, sizeof a) == 0;
+}
+
+// Whether the pyramid's layout (its bounds and depth, hence the order in which a query visits proxies, hence the
+// pair order) depends on anything that differs between the two settings. The executor's settings (threads,
+// schedule, chunk, thresholds, task system) never change pairs or their order, so changing only them must not
+// rebuild either: a rebuild re-tunes for the proxies of that moment and changes the layout from then on.
+bool LayoutSettingsDiffer(const Config& a, const Config& b)
+{
+    return a.depth != b.depth || a.maxDepth != b.maxDepth || a.autoBounds != b.autoBounds ||
+           !SameBits(a.cellToProxyRatio, b.cellToProxyRatio) || !SameBits(a.bounds.minX, b.bounds.minX) ||
+           !SameBits(a.bounds.minY, b.bounds.minY) || !SameBits(a.bounds.maxX, b.bounds.maxX) ||
+           !SameBits(a.bounds.maxY, b.bounds.maxY);
+}
 
 // A task system is all or nothing: a half-set one would silently run serially, or call a null pointer.
 void CheckTaskSystem(const TaskSystem& tasks)
@@ -201,17 +219,24 @@ void QuadtreeBroadPhase::WriteMirrorOfAll()
 void QuadtreeBroadPhase::Configure(const Config& config)
 {
     CheckTaskSystem(config.taskSystem);
-    ApplyQueuedIfAny();
-    const Config previous = m_config;
-    m_config = config;
-    try
+    if (!LayoutSettingsDiffer(m_config, config))
     {
-        Retune();
+        m_config = config;
     }
-    catch (...)
+    else
     {
-        m_config = previous; // all or nothing
-        throw;
+        ApplyQueuedIfAny();
+        const Config previous = m_config;
+        m_config = config;
+        try
+        {
+            Retune();
+        }
+        catch (...)
+        {
+            m_config = previous; // all or nothing
+            throw;
+        }
     }
     m_teamStarted = false; // the thread count or the executor may have changed
     StartTeamIfDue();

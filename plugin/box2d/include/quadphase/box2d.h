@@ -11,14 +11,16 @@
 namespace quadphase
 {
 
-/// Applies settings to the world's broadphase and rebuilds its quadtree (O(proxies)). Call between steps.
+/// Applies settings to the world's broadphase. A changed layout setting (depth, maxDepth, autoBounds, bounds,
+/// cellToProxyRatio) rebuilds its quadtree (O(proxies)); thread and task-system settings alone do not, so they
+/// leave the pairs, their order and the simulation as they were. Call between steps.
 void Configure(b2World& world, const Config& config);
 
 /// Hands pair generation to the game's own job system (quadphase/task_system.h): from the next step on it runs
 /// on the game's workers and quadphase starts no OpenMP thread. TaskSystem{} goes back to OpenMP. The pairs and
 /// their order, hence the simulation, do not change. Call between steps; the callbacks must outlive the world
 /// or be replaced first. Throws std::invalid_argument for a half-set TaskSystem. Same as Config::taskSystem
-/// through Configure, without Configure's rebuild.
+/// through Configure.
 void SetTaskSystem(b2World& world, const TaskSystem& tasks);
 
 /// The world's current settings.

@@ -34,7 +34,8 @@ namespace quadphase
 ///   all proxies or all cells. Box2D calls it once per step and again after every time-of-impact event.
 /// - The pyramid is rebuilt (O(proxies)) when the automatic rule re-tunes depth and bounds: when the proxy
 ///   count has doubled or fallen to a quarter since the last tuning, or when more than a quarter of the proxies
-///   have moved outside the bounds since the last tuning; and on ShiftOrigin and Configure. See docs/design.md.
+///   have moved outside the bounds since the last tuning; and on ShiftOrigin and a Configure that changes a layout
+///   setting. See docs/design.md.
 ///
 /// Determinism: the same sequence of calls gives the same ids, the same pairs and the same pair order, at any
 /// thread count and schedule.
@@ -130,12 +131,16 @@ public:
     /// Overlap of two proxies' fat boxes. Unknown ids report an error and answer false.
     bool TestOverlap(ProxyId a, ProxyId b) const;
 
-    /// Applies new settings and rebuilds the pyramid. Pairs already reported are unaffected.
+    /// Applies new settings. When a layout setting differs from the current one (depth, maxDepth, autoBounds,
+    /// bounds, cellToProxyRatio), it re-tunes for the current proxies and rebuilds the pyramid (O(proxies));
+    /// settings of the executor alone (threads, schedule, chunk, the thresholds, taskSystem) change no layout,
+    /// so the pairs and their order from then on are those the previous settings would have given. Pairs already
+    /// reported are unaffected. All or nothing: std::bad_alloc or std::invalid_argument changes nothing.
     void Configure(const Config& config);
     const Config& GetConfig() const { return m_config; }
 
     /// Runs parallel pair generation on the game's job system from the next FindPairs on (an empty TaskSystem{}
-    /// goes back to OpenMP), without the rebuild Configure makes. The measured serial/parallel choice starts
+    /// goes back to OpenMP); like Configure with only the task system changed, it rebuilds nothing. The measured serial/parallel choice starts
     /// afresh. Throws std::invalid_argument, changing nothing, for a half-set one (see TaskSystem).
     void SetTaskSystem(const TaskSystem& tasks);
 
