@@ -291,7 +291,7 @@ if [[ -z "${skip[tests]:-}" ]]; then
 fi
 
 # --- physics ----------------------------------------------------------------------------------------------------
-declare -A step_stock=() step_quadphase=() map_validation=() map_info=()
+declare -A step_stock=() step_quadphase=() map_validation=() map_info=() map_frames=()
 if [[ -z "${skip[physics]:-}" ]]; then
     phase physics
     for v in stock quadphase; do
@@ -301,12 +301,15 @@ if [[ -z "${skip[physics]:-}" ]]; then
         (cd "$src" && HOME="$work/home-physics" ./caveexpress-physics --seconds "$seconds" "${maps[@]}") \
             >"$out" 2>"$work/physics-$v.err" || fail "$v: caveexpress-physics failed (see $work/physics-$v.err)"
         while IFS=$'\t' read -r tag name steps simulated median p90 mean broadphase tick bodies contacts proxies \
-                                 reloads; do
+                                 reloads bp_p99 bp_max bp_total step_p99 step_max step_total; do
             [[ "$tag" == map ]] || continue
+            map_frames[$v:$name]="$bp_total $bp_max $bp_p99 $step_total $step_max"
             if [[ $v == stock ]]; then step_stock[$name]="$median ($p90)"; else step_quadphase[$name]="$median ($p90)"; fi
             map_info[$v:$name]="$steps steps ($simulated s), step median $median ms (p90 $p90, mean $mean), broadphase median"
             map_info[$v:$name]+=" $broadphase ms, game tick median $tick ms; at the end $bodies bodies,"
-            map_info[$v:$name]+=" $contacts contacts, $proxies proxies; $reloads reloads"
+            map_info[$v:$name]+=" $contacts contacts, $proxies proxies; $reloads reloads; broadphase p99 $bp_p99 ms,"
+            map_info[$v:$name]+=" worst $bp_max ms, total $bp_total ms; step p99 $step_p99 ms, worst $step_max ms,"
+            map_info[$v:$name]+=" total $step_total ms"
             echo "real-game:   $v $name: ${map_info[$v:$name]}"
         done <"$out"
     done
@@ -402,6 +405,16 @@ if [[ -z "${skip[physics]:-}" ]]; then
     done
     echo "  physics: median (90th percentile) of b2Profile::step over ${seconds} simulated seconds per map, 60 steps"
     echo "           per second; one run each on a shared machine: rerun to compare"
+    printf '  frames  %-14s %24s %24s %24s\n' map "bp total stock/quadphase" "bp worst stock/quadphase" \
+           "step total stock/quadph."
+    for map in "${maps[@]}"; do
+        read -r st_total st_max _ st_step _ <<<"${map_frames[stock:$map]:-? ? ? ? ?}"
+        read -r qp_total qp_max _ qp_step _ <<<"${map_frames[quadphase:$map]:-? ? ? ? ?}"
+        printf '  frames  %-14s %24s %24s %24s\n' "$map" "$st_total / $qp_total" "$st_max / $qp_max" \
+               "$st_step / $qp_step"
+    done
+    echo "  frames: b2Profile::broadphase and ::step in ms, summed over the run (total) and the largest single step"
+    echo "          (worst), at the library's defaults (no environment variable, every core)"
 fi
 if [[ -z "${skip[binary]:-}" ]]; then
     echo "  binary maps line: ${maps_line:-none}"
