@@ -39,24 +39,28 @@ DEFAULT_STEP = (60, 8, 3)
 STEP_SETTINGS = [DEFAULT_STEP, (30, 8, 3), (120, 8, 3), (240, 8, 3), (60, 4, 2), (60, 16, 6)]
 REFERENCE_STEP = (240, 32, 12)  # 4x the default rate and 4x the default iterations
 
+
+def _threads(key, build, option, family, what):
+    """A design at its automatic depth: 1 thread, 2 threads, 2 threads with OMP_WAIT_POLICY=passive."""
+    auto = [option, "auto", "--threads"]
+    return [(f"{key}-auto-t1", build, auto + ["1"], family, f"{what}, 1 thr"),
+            (f"{key}-auto-t2", build, auto + ["2"], family + "-t2", f"{what}, 2 thr"),
+            (f"{key}-auto-t2-passive", build, auto + ["2"], family + "-t2p",
+             f"{what}, 2 thr, OMP_WAIT_POLICY=passive")]
+
+
+def _fixed(key, build, option, family, what, offsets):
+    """A design at fixed offsets from its automatic depth, 1 thread."""
+    return [(key + o, build, [option, "auto" + o, "--threads", "1"], family, f"{what} auto{o}") for o in offsets]
+
+
 # Broadphase configurations: key, build, extra arguments, family (colour), label. A key ending in "-passive" runs
 # with OMP_WAIT_POLICY=passive (libgomp's idle threads sleep instead of spinning; see the report).
-BROADPHASES = [
-    ("stock", "stock", [], "stock", "stock tree"),
-    ("qp-auto-t1", "quadphase", ["--depth", "auto", "--threads", "1"], "quadphase", "quadphase auto, 1 thr"),
-    ("qp-auto-t2", "quadphase", ["--depth", "auto", "--threads", "2"], "quadphase-t2", "quadphase auto, 2 thr"),
-    ("qp-auto-t2-passive", "quadphase", ["--depth", "auto", "--threads", "2"], "quadphase-t2p",
-     "quadphase auto, 2 thr, OMP_WAIT_POLICY=passive"),
-    ("qp-d-2", "quadphase", ["--depth", "auto-2", "--threads", "1"], "quadphase-fixed", "quadphase depth auto-2"),
-    ("qp-d-1", "quadphase", ["--depth", "auto-1", "--threads", "1"], "quadphase-fixed", "quadphase depth auto-1"),
-    ("qp-d+1", "quadphase", ["--depth", "auto+1", "--threads", "1"], "quadphase-fixed", "quadphase depth auto+1"),
-    ("paper-auto-t1", "paper", ["--levels", "auto", "--threads", "1"], "paper", "paper auto levels, 1 thr"),
-    ("paper-auto-t2", "paper", ["--levels", "auto", "--threads", "2"], "paper-t2", "paper auto levels, 2 thr"),
-    ("paper-auto-t2-passive", "paper", ["--levels", "auto", "--threads", "2"], "paper-t2p",
-     "paper auto levels, 2 thr, OMP_WAIT_POLICY=passive"),
-    ("paper-l-2", "paper", ["--levels", "auto-2", "--threads", "1"], "paper-coarse", "paper levels auto-2"),
-    ("paper-l-4", "paper", ["--levels", "auto-4", "--threads", "1"], "paper-coarse", "paper levels auto-4"),
-]
+BROADPHASES = ([("stock", "stock", [], "stock", "stock tree")]
+               + _threads("qp", "quadphase", "--depth", "quadphase", "quadphase auto")
+               + _fixed("qp-d", "quadphase", "--depth", "quadphase-fixed", "quadphase depth", ("-2", "-1", "+1"))
+               + _threads("paper", "paper", "--levels", "paper", "paper auto levels")
+               + _fixed("paper-l", "paper", "--levels", "paper-coarse", "paper levels", ("-2", "-4")))
 # Configurations that are also run at every step setting (the others only at the default).
 SWEEP_STEPS = ("stock", "qp-auto-t1", "paper-auto-t1")
 

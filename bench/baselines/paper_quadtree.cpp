@@ -1,7 +1,5 @@
 #include "paper_quadtree.h"
 
-#include "quadphase/brute_force_broad_phase.h"
-
 #include <omp.h>
 
 #include <algorithm>
@@ -15,8 +13,6 @@ namespace bench
 {
 namespace
 {
-const Box kEmptyBox{0.0f, 0.0f, 0.0f, 0.0f};
-
 Box CheckedBounds(const Box& bounds)
 {
     const bool finite = IsFinite(bounds);
@@ -81,7 +77,7 @@ struct PaperQuadtreeBroadPhase::Locks
 PaperQuadtreeBroadPhase::PaperQuadtreeBroadPhase(int levels, const Box& bounds, int threads,
                                                  Schedule schedule, PaperPairReport report,
                                                  const FatPolicy& policy)
-    : m_policy(policy), m_report(report), m_levels(std::clamp(levels, kMinLevels, kMaxLevels)),
+    : BruteForceBroadPhase(policy), m_report(report), m_levels(std::clamp(levels, kMinLevels, kMaxLevels)),
       m_leafSide(int32_t(1) << (m_levels - 1)), m_bounds(CheckedBounds(bounds)),
       m_threads(threads < 0 ? 0 : threads), m_schedule(schedule)
 {
@@ -351,68 +347,12 @@ void PaperQuadtreeBroadPhase::RunParallel(std::vector<Pair>& out, int threads)
     m_lastFound = found;
 }
 
-// ---------------------------------------------------------------------------------------------------------------
-// Proxy calls: identical to BruteForceBroadPhase (same pool, same fat policy).
-
-ProxyId PaperQuadtreeBroadPhase::CreateProxy(const Box& tight, void* userData)
-{
-    const ProxyId id = m_pool.Allocate(FattenNew(m_policy, tight), userData);
-    m_pool.Buffer(id);
-    return id;
-}
-
-void PaperQuadtreeBroadPhase::DestroyProxy(ProxyId id)
-{
-    if (m_pool.CheckLive(id, "DestroyProxy"))
-    {
-        m_pool.Free(id);
-    }
-}
-
-bool PaperQuadtreeBroadPhase::MoveProxy(ProxyId id, const Box& tight, Vec2 displacement)
-{
-    if (!m_pool.CheckLive(id, "MoveProxy") || !Refatten(m_policy, m_pool.Fat(id), tight, displacement))
-    {
-        return false;
-    }
-    m_pool.Buffer(id);
-    return true;
-}
-
-void PaperQuadtreeBroadPhase::TouchProxy(ProxyId id)
-{
-    if (m_pool.CheckLive(id, "TouchProxy"))
-    {
-        m_pool.Buffer(id);
-    }
-}
-
-void PaperQuadtreeBroadPhase::Query(const Box& box, QueryFn fn, void* context) const
-{
-    ScanQuery(m_pool, box, fn, context);
-}
-
-void PaperQuadtreeBroadPhase::RayCast(const RayInput& input, RayCastFn fn, void* context) const
-{
-    ScanRayCast(m_pool, input, fn, context);
-}
-
 void PaperQuadtreeBroadPhase::ShiftOrigin(Vec2 newOrigin)
 {
-    m_pool.ShiftOrigin(newOrigin);
+    BruteForceBroadPhase::ShiftOrigin(newOrigin);
     m_bounds = Box{m_bounds.minX - newOrigin.x, m_bounds.minY - newOrigin.y, m_bounds.maxX - newOrigin.x,
                    m_bounds.maxY - newOrigin.y};
     BuildTree(); // same leaf count: the locks stay
-}
-
-const Box& PaperQuadtreeBroadPhase::GetFatBox(ProxyId id) const
-{
-    return m_pool.CheckLive(id, "GetFatAABB") ? m_pool.Fat(id) : kEmptyBox;
-}
-
-void* PaperQuadtreeBroadPhase::GetUserData(ProxyId id) const
-{
-    return m_pool.IsLive(id) ? m_pool.UserData(id) : nullptr;
 }
 
 } // namespace bench

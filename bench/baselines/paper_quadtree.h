@@ -19,10 +19,8 @@
 #include <memory>
 #include <vector>
 
-#include "quadphase/broad_phase_interface.h"
+#include "quadphase/brute_force_broad_phase.h"
 #include "quadphase/config.h"
-#include "quadphase/fat_policy.h"
-#include "quadphase/proxy_pool.h"
 
 namespace quadphase
 {
@@ -46,9 +44,9 @@ enum class PaperPairReport
 /// nor edge neighbours (diagonal neighbours, objects larger than a leaf), or when they only touch exactly on a leaf
 /// side; a pair is reported twice when both fat boxes cross the side between their two leaves. Pair order depends
 /// on thread timing (one shared vector under one lock), so it is not deterministic; the multiset of pairs is.
-/// Fat boxes, ids, Query, RayCast and GetFatBox behave exactly as in BruteForceBroadPhase (same ProxyPool,
-/// FatPolicy, FattenNew, Refatten; Query and RayCast are brute force over the pool).
-class PaperQuadtreeBroadPhase final : public BroadPhaseInterface
+/// Fat boxes, ids, Query, RayCast and GetFatBox are BruteForceBroadPhase's own (it derives from it; Query and
+/// RayCast are brute force over the pool): only FindPairs and ShiftOrigin are the paper's.
+class PaperQuadtreeBroadPhase final : public BruteForceBroadPhase
 {
 public:
     static constexpr int kMinLevels = 1; ///< one leaf: the root
@@ -69,26 +67,13 @@ public:
     PaperQuadtreeBroadPhase(const PaperQuadtreeBroadPhase&) = delete;
     PaperQuadtreeBroadPhase& operator=(const PaperQuadtreeBroadPhase&) = delete;
 
-    ProxyId CreateProxy(const Box& tight, void* userData) override;
-    void DestroyProxy(ProxyId id) override;
-    bool MoveProxy(ProxyId id, const Box& tight, Vec2 displacement) override;
-    void TouchProxy(ProxyId id) override;
-
     /// Inserts every live proxy, finds pairs leaf by leaf, clears the tree; appends to `out` (see PaperPairReport)
     /// and clears the move buffer. Pairs are {a, b} with a < b; a pair may appear twice; some pairs are missed.
     void FindPairs(std::vector<Pair>& out) override;
 
-    /// Brute force over the pool: the same answers, in the same order, as BruteForceBroadPhase.
-    void Query(const Box& box, QueryFn fn, void* context) const override;
-    void RayCast(const RayInput& input, RayCastFn fn, void* context) const override;
-
     /// Moves every stored box and the bounds (the tree's node boxes) by -newOrigin, so that each proxy keeps its
     /// leaf.
     void ShiftOrigin(Vec2 newOrigin) override;
-
-    const Box& GetFatBox(ProxyId id) const override;
-    void* GetUserData(ProxyId id) const override;
-    int32_t GetProxyCount() const override { return m_pool.LiveCount(); }
 
     int GetLevels() const { return m_levels; }
 
@@ -114,9 +99,6 @@ private:
     void RunSequential(std::vector<Pair>& out);
     void RunParallel(std::vector<Pair>& out, int threads);
 
-    FatPolicy m_policy;
-    ProxyPool m_pool;
-    std::vector<ProxyId> m_work;
     PaperPairReport m_report;
     int m_levels;
     int32_t m_leafSide;

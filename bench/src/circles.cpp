@@ -30,6 +30,7 @@
 #include <cstdio>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <unordered_set>
 #include <vector>
 
@@ -164,116 +165,85 @@ private:
     std::vector<quadphase::Pair> m_pairs;
 };
 
-/// Box2D's persistent pair list (b2ContactManager's role), shared by stock and quadtree.
-class PairList
+/// Stock and quadtree: Box2D's calls (MoveProxy of every circle by its displacement, then the new pairs) and
+/// Box2D's persistent pair list (b2ContactManager's role): new pairs are added (duplicates dropped), every
+/// listed pair whose fat boxes no longer overlap is dropped (TestOverlap), the others are circle-tested.
+template <typename BP>
+class Persistent final : public Detector
 {
 public:
-    void Add(int32_t a, int32_t b)
+    static constexpr bool kStock = std::is_same_v<BP, b2BroadPhase>;
+
+    template <typename... A>
+    explicit Persistent(const Circles& c, A&&... a) : m_bp(std::forward<A>(a)...), m_last(c.x), m_lastY(c.y)
     {
-        if (a > b)
+        for (int i = 0; i < c.Count(); ++i)
         {
-            std::swap(a, b);
-        }
-        if (m_keys.insert(PairKey(a, b)).second)
-        {
-            m_pairs.emplace_back(a, b);
+            void* user = reinterpret_cast<void*>(intptr_t(i));
+            if constexpr (kStock)
+                m_ids.push_back(m_bp.CreateProxy(ToAabb(c.Tight(i)), user));
+            else
+                m_ids.push_back(m_bp.CreateProxy(c.Tight(i), user));
         }
     }
-    /// Drops the pairs whose fat boxes no longer overlap, circle-tests the others.
-    template <typename FatOverlap>
-    int64_t Collide(const Circles& c, FatOverlap&& overlap)
+    int64_t Frame(const Circles& c) override
     {
-        int64_t hits = 0;
-        for (size_t i = 0; i < m_pairs.size();)
+        for (int i = 0; i < c.Count(); ++i)
         {
-            const auto p = m_pairs[i];
-            if (!overlap(p.first, p.second))
+            const float dx = c.x[size_t(i)] - m_last[size_t(i)], dy = c.y[size_t(i)] - m_lastY[size_t(i)];
+            if constexpr (kStock)
+                m_bp.MoveProxy(m_ids[size_t(i)], ToAabb(c.Tight(i)), b2Vec2(dx, dy));
+            else
+                m_bp.MoveProxy(m_ids[size_t(i)], c.Tight(i), quadphase::Vec2{dx, dy});
+            m_last[size_t(i)] = c.x[size_t(i)];
+            m_lastY[size_t(i)] = c.y[size_t(i)];
+        }
+        if constexpr (kStock)
+        {
+            m_bp.UpdatePairs(this);
+        }
+        else
+        {
+            m_pairs.clear();
+            m_bp.FindPairs(m_pairs);
+            for (const quadphase::Pair& p : m_pairs)
             {
-                m_keys.erase(PairKey(p.first, p.second));
-                m_pairs[i] = m_pairs.back();
-                m_pairs.pop_back();
+                AddPair(m_bp.GetUserData(p.a), m_bp.GetUserData(p.b));
+            }
+        }
+        int64_t hits = 0;
+        for (size_t i = 0; i < m_list.size();)
+        {
+            const auto [a, b] = m_list[i];
+            if (!m_bp.TestOverlap(m_ids[size_t(a)], m_ids[size_t(b)]))
+            {
+                m_keys.erase(PairKey(a, b));
+                m_list[i] = m_list.back();
+                m_list.pop_back();
                 continue;
             }
-            hits += c.Touching(p.first, p.second) ? 1 : 0;
+            hits += c.Touching(a, b) ? 1 : 0;
             ++i;
         }
         return hits;
     }
-
-private:
-    std::unordered_set<uint64_t> m_keys;
-    std::vector<std::pair<int32_t, int32_t>> m_pairs;
-};
-
-class Stock final : public Detector
-{
-public:
-    explicit Stock(const Circles& c) : m_last(c.x), m_lastY(c.y)
+    /// b2BroadPhase::UpdatePairs's callback; ids are the circles' indices (user data).
+    void AddPair(void* userA, void* userB)
     {
-        for (int i = 0; i < c.Count(); ++i)
+        const int32_t a = int32_t(intptr_t(userA)), b = int32_t(intptr_t(userB));
+        if (m_keys.insert(PairKey(a, b)).second)
         {
-            m_ids.push_back(m_bp.CreateProxy(ToAabb(c.Tight(i)), reinterpret_cast<void*>(intptr_t(i))));
+            m_list.emplace_back(std::min(a, b), std::max(a, b));
         }
-    }
-    int64_t Frame(const Circles& c) override
-    {
-        for (int i = 0; i < c.Count(); ++i)
-        {
-            const b2Vec2 d(c.x[size_t(i)] - m_last[size_t(i)], c.y[size_t(i)] - m_lastY[size_t(i)]);
-            m_bp.MoveProxy(m_ids[size_t(i)], ToAabb(c.Tight(i)), d);
-            m_last[size_t(i)] = c.x[size_t(i)];
-            m_lastY[size_t(i)] = c.y[size_t(i)];
-        }
-        m_bp.UpdatePairs(this);
-        return m_list.Collide(
-            c, [&](int32_t a, int32_t b) { return m_bp.TestOverlap(m_ids[size_t(a)], m_ids[size_t(b)]); });
-    }
-    void AddPair(void* a, void* b) { m_list.Add(int32_t(intptr_t(a)), int32_t(intptr_t(b))); }
-
-private:
-    b2BroadPhase m_bp;
-    std::vector<int32_t> m_ids;
-    std::vector<float> m_last, m_lastY;
-    PairList m_list;
-};
-
-class Quadtree final : public Detector
-{
-public:
-    Quadtree(const Circles& c, const quadphase::Config& config)
-        : m_bp(quadphase::FatPolicy{}, config), m_last(c.x), m_lastY(c.y)
-    {
-        for (int i = 0; i < c.Count(); ++i)
-        {
-            m_ids.push_back(m_bp.CreateProxy(c.Tight(i), reinterpret_cast<void*>(intptr_t(i))));
-        }
-    }
-    int64_t Frame(const Circles& c) override
-    {
-        for (int i = 0; i < c.Count(); ++i)
-        {
-            const quadphase::Vec2 d{c.x[size_t(i)] - m_last[size_t(i)], c.y[size_t(i)] - m_lastY[size_t(i)]};
-            m_bp.MoveProxy(m_ids[size_t(i)], c.Tight(i), d);
-            m_last[size_t(i)] = c.x[size_t(i)];
-            m_lastY[size_t(i)] = c.y[size_t(i)];
-        }
-        m_pairs.clear();
-        m_bp.FindPairs(m_pairs);
-        for (const quadphase::Pair& p : m_pairs)
-        {
-            m_list.Add(int32_t(intptr_t(m_bp.GetUserData(p.a))), int32_t(intptr_t(m_bp.GetUserData(p.b))));
-        }
-        return m_list.Collide(c, [&](int32_t a, int32_t b) {
-            return quadphase::Overlaps(m_bp.GetFatBox(m_ids[size_t(a)]), m_bp.GetFatBox(m_ids[size_t(b)]));
-        });
     }
 
 private:
-    quadphase::QuadtreeBroadPhase m_bp;
+    BP m_bp;
     std::vector<int32_t> m_ids;
     std::vector<float> m_last, m_lastY;
     std::vector<quadphase::Pair> m_pairs;
-    PairList m_list;
+    std::unordered_set<uint64_t> m_keys;
+    std::vector<std::pair<int32_t, int32_t>> m_list;
 };
 
 struct Settings
@@ -298,11 +268,11 @@ std::unique_ptr<Detector> Make(const Settings& s, const Circles& c)
         return std::make_unique<Paper>(c, s.depth < 0 ? levels : s.depth, s.threads);
     }
     if (s.engine == "stock")
-        return std::make_unique<Stock>(c);
+        return std::make_unique<Persistent<b2BroadPhase>>(c);
     quadphase::Config config;
     config.depth = s.depth;
     config.threads = s.threads;
-    return std::make_unique<Quadtree>(c, config);
+    return std::make_unique<Persistent<quadphase::QuadtreeBroadPhase>>(c, quadphase::FatPolicy{}, config);
 }
 
 struct Evaluation
@@ -325,26 +295,19 @@ Evaluation Evaluate(const Settings& s, int n)
         d->Frame(c);
         // Brute force and the paper's design keep nothing from one frame to the next: no warm-up needed.
         const int warmup = s.engine == "pairwise" || s.engine == "paper" ? 0 : s.warmup;
-        for (int f = 0; f < warmup; ++f)
+        double total = 0.0; // over the timed frames, those after the warm-up
+        for (int f = 0; f < warmup + s.frames && !e.aborted; ++f)
         {
             c.Move();
             const int64_t t0 = NowNs();
-            d->Frame(c);
-            if (double(NowNs() - t0) * 1e-6 > 5.0 * s.budgetMs)
-            {
-                e.aborted = true;
-                break;
-            }
-        }
-        double total = 0.0;
-        for (int f = 0; f < s.frames && !e.aborted; ++f)
-        {
-            c.Move();
-            const int64_t t0 = NowNs();
-            e.touching = d->Frame(c);
+            const int64_t touching = d->Frame(c);
             const double ms = double(NowNs() - t0) * 1e-6;
-            total += ms;
             e.aborted = ms > 5.0 * s.budgetMs;
+            if (f >= warmup)
+            {
+                total += ms;
+                e.touching = touching;
+            }
         }
         if (e.aborted)
         {
@@ -379,13 +342,13 @@ int main(int argc, char** argv)
     const Settings s{engine,
                      int(args.GetInt("threads", 1)),
                      depth == "auto" ? -1 : std::atoi(depth.c_str()),
-                     std::atof(args.Get("budget-ms", "20").c_str()),
+                     args.GetDouble("budget-ms", 20.0),
                      int(args.GetInt("repeats", 3)),
                      int(args.GetInt("frames", 10)),
                      int(args.GetInt("warmup", 20)),
                      uint32_t(args.GetInt("seed", 1))};
-    const double precision = std::atof(args.Get("precision", "0.03").c_str());
-    const double maxSeconds = std::atof(args.Get("max-seconds", "60").c_str());
+    const double precision = args.GetDouble("precision", 0.03);
+    const double maxSeconds = args.GetDouble("max-seconds", 60.0);
     const long maxN = args.GetInt("max-n", 4000000);
     if (s.repeats < 1 || s.frames < 1 || s.budgetMs <= 0 || precision <= 0 || s.threads < 0 ||
         (s.engine == "paper" && s.depth != -1 && (s.depth < 1 || s.depth > 9)))

@@ -17,7 +17,7 @@ namespace qpbench
 using quadphase::ProxyId;
 
 /// An engine behind quadphase::BroadPhaseInterface: QuadtreeBroadPhase, BruteForceBroadPhase, the paper's
-/// design (the calls below are direct: the classes are final).
+/// design (the calls below are direct: the classes, or BruteForceBroadPhase's proxy calls, are final).
 template <typename BP>
 class CoreEngine
 {

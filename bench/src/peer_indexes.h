@@ -1,10 +1,8 @@
 // The foreign spatial indexes qp-replay's peers run over (replay_peers.cpp), each behind one small interface:
-//   Insert(id, fat), Update(id, fat), Remove(id)       the box the index keeps for `id` (Box2D's fat box)
-//   Query(fat, fn(int32_t id))                          every id whose indexed box may overlap `fat` (a
-//   superset) AllPairs(fn(int32_t a, int32_t b))                  the index's own per-step loop (native
-//   mode): every pair
-//                                                       whose indexed boxes may overlap, each once (a
-//                                                       superset)
+//   Insert(id, fat), Update(id, fat), Remove(id)  the box the index keeps for `id` (Box2D's fat box)
+//   Query(fat, fn(int32_t id))                     every id whose indexed box may overlap `fat` (a superset)
+//   AllPairs(fn(int32_t a, int32_t b))             the index's own per-step loop (native mode): every pair
+//                                                  whose indexed boxes may overlap, each once (a superset)
 // Ids are the engine's (0..n-1); the engine filters what an index returns with the exact fat-box test.
 #pragma once
 

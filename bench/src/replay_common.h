@@ -69,13 +69,10 @@ using quadphase::Vec2;
 struct StepIndex
 {
     std::string scene;
-    int size = 0;
+    int size = 0, warmup = 0, steps = 0;
     uint32_t seed = 0;
-    int warmup = 0;
-    int steps = 0;
-    int64_t bodies = 0;
-    int64_t proxies = 0;
-    std::vector<uint64_t> boundary; // warmup + steps + 1 entries
+    int64_t bodies = 0, proxies = 0; // at the end of the recording
+    std::vector<uint64_t> boundary;  // warmup + steps + 1 entries
 
     bool Save(const std::string& path, std::string& error) const
     {

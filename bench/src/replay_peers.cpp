@@ -423,6 +423,19 @@ int RunEngine(const PeerRun& run, Make make, bool checked = true)
     return bad != 0 ? 3 : 0;
 }
 
+/// RunEngine over PeerEngine<Index> in native mode or Box2D's protocol; `a` are the index's arguments.
+template <typename Index, typename... A>
+int RunIndex(const PeerRun& run, bool native, float multiplier, const A&... a)
+{
+    if (native)
+    {
+        return RunEngine<PeerEngine<Index, true>>(
+            run, [&] { return std::make_unique<PeerEngine<Index, true>>(multiplier, a...); });
+    }
+    return RunEngine<PeerEngine<Index, false>>(
+        run, [&] { return std::make_unique<PeerEngine<Index, false>>(multiplier, a...); });
+}
+
 } // namespace
 
 int RunPeer(const PeerRun& run)
@@ -510,13 +523,7 @@ int RunPeer(const PeerRun& run)
         const bool hash = base == "cp-hash";
         const double cell = cellScale * g.meanSide;
         const int cells = int(std::max<int64_t>(1000, 10 * loaded.steps.proxies));
-        if (native)
-        {
-            using E = PeerEngine<ChipmunkIndex, true>;
-            return RunEngine<E>(run, [&] { return std::make_unique<E>(multiplier, hash, cell, cells); });
-        }
-        using E = PeerEngine<ChipmunkIndex, false>;
-        return RunEngine<E>(run, [&] { return std::make_unique<E>(multiplier, hash, cell, cells); });
+        return RunIndex<ChipmunkIndex>(run, native, multiplier, hash, cell, cells);
     }
 #endif
 #if QP_HAVE_BULLET
@@ -529,19 +536,11 @@ int RunPeer(const PeerRun& run)
             0.1f * std::max(g.bounds.maxX - g.bounds.minX, g.bounds.maxY - g.bounds.minY) + 1.0f;
         const Box world{g.bounds.minX - pad, g.bounds.minY - pad, g.bounds.maxX + pad, g.bounds.maxY + pad};
         const int maxProxies = loaded.idBound;
-        if (native)
-        {
-            using E = PeerEngine<BulletIndex, true>;
-            return RunEngine<E>(
-                run, [&] { return std::make_unique<E>(multiplier, true, sap, world, maxProxies); });
-        }
-        if (sap)
+        if (sap && !native)
         {
             Die(2, "qp-replay: bt-sap runs in native mode only (its aabbTest is a linear scan)\n");
         }
-        using E = PeerEngine<BulletIndex, false>;
-        return RunEngine<E>(run,
-                            [&] { return std::make_unique<E>(multiplier, false, false, world, maxProxies); });
+        return RunIndex<BulletIndex>(run, native, multiplier, native, sap, world, maxProxies);
     }
 #endif
     Die(2, "qp-replay: engine '%s' is unknown or not built here (Chipmunk %s, Bullet %s)\n", e.c_str(),

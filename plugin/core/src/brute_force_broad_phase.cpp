@@ -8,7 +8,7 @@ namespace quadphase
 namespace
 {
 const Box kEmptyBox{0.0f, 0.0f, 0.0f, 0.0f};
-}
+} // namespace
 
 BruteForceBroadPhase::BruteForceBroadPhase(const FatPolicy& policy) : m_policy(policy) {}
 
@@ -75,23 +75,23 @@ void BruteForceBroadPhase::FindPairs(std::vector<Pair>& out)
     m_pool.ReturnBuffer(m_work);
 }
 
-void ScanQuery(const ProxyPool& pool, const Box& box, QueryFn fn, void* context)
+void BruteForceBroadPhase::Query(const Box& box, QueryFn fn, void* context) const
 {
-    for (ProxyId p = 0; p < pool.IdBound(); ++p)
+    for (ProxyId p = 0; p < m_pool.IdBound(); ++p)
     {
-        if (pool.IsLive(p) && Overlaps(pool.Fat(p), box) && !fn(context, p))
+        if (m_pool.IsLive(p) && Overlaps(m_pool.Fat(p), box) && !fn(context, p))
         {
             return;
         }
     }
 }
 
-void ScanRayCast(const ProxyPool& pool, const RayInput& input, RayCastFn fn, void* context)
+void BruteForceBroadPhase::RayCast(const RayInput& input, RayCastFn fn, void* context) const
 {
     SegmentTest segment(input);
-    for (ProxyId p = 0; p < pool.IdBound(); ++p)
+    for (ProxyId p = 0; p < m_pool.IdBound(); ++p)
     {
-        if (!pool.IsLive(p) || !segment.MayCross(pool.Fat(p)))
+        if (!m_pool.IsLive(p) || !segment.MayCross(m_pool.Fat(p)))
         {
             continue;
         }
@@ -105,16 +105,6 @@ void ScanRayCast(const ProxyPool& pool, const RayInput& input, RayCastFn fn, voi
             segment.Clip(value);
         }
     }
-}
-
-void BruteForceBroadPhase::Query(const Box& box, QueryFn fn, void* context) const
-{
-    ScanQuery(m_pool, box, fn, context);
-}
-
-void BruteForceBroadPhase::RayCast(const RayInput& input, RayCastFn fn, void* context) const
-{
-    ScanRayCast(m_pool, input, fn, context);
 }
 
 void BruteForceBroadPhase::ShiftOrigin(Vec2 newOrigin)

@@ -1,4 +1,5 @@
-// b2BroadPhase of the paper-design Box2D build: forwards Box2D's calls to PaperQuadtreeBroadPhase.
+// b2BroadPhase of the paper-design Box2D build: its constructor, which reads the paper settings
+// (the calls are forwarded to PaperQuadtreeBroadPhase inline, in the header).
 #include "box2d/b2_broad_phase.h"
 
 #include "quadphase_paper/paper_settings.h"
@@ -9,24 +10,4 @@ b2BroadPhase::b2BroadPhase()
              quadphase::bench::PaperPairReport::All,
              quadphase::FatPolicy{b2_aabbExtension, b2_aabbMultiplier})
 {
-}
-
-int32 b2BroadPhase::CreateProxy(const b2AABB& aabb, void* userData)
-{
-    return m_core.CreateProxy(quadphase::bench::detail::ToBox(aabb), userData);
-}
-
-void b2BroadPhase::DestroyProxy(int32 proxyId)
-{
-    m_core.DestroyProxy(proxyId);
-}
-
-void b2BroadPhase::MoveProxy(int32 proxyId, const b2AABB& aabb, const b2Vec2& displacement)
-{
-    m_core.MoveProxy(proxyId, quadphase::bench::detail::ToBox(aabb), {displacement.x, displacement.y});
-}
-
-void b2BroadPhase::TouchProxy(int32 proxyId)
-{
-    m_core.TouchProxy(proxyId);
 }

@@ -10,30 +10,28 @@
 namespace quadphase
 {
 
-/// Query and RayCast by testing every live proxy of `pool`, in id order (BroadPhaseInterface's semantics).
-void ScanQuery(const ProxyPool& pool, const Box& box, QueryFn fn, void* context);
-void ScanRayCast(const ProxyPool& pool, const RayInput& input, RayCastFn fn, void* context);
-
 /// Same semantics as QuadtreeBroadPhase (see BroadPhaseInterface) with the simplest possible search: every query
 /// tests every live proxy. It shares ProxyPool, so for the same calls it hands out the same ids.
-class BruteForceBroadPhase final : public BroadPhaseInterface
+/// A derived class (the bench's baseline of the paper's design) may search pairs its own way: FindPairs and
+/// ShiftOrigin can be overridden; the proxy calls, Query and RayCast (every live proxy in id order) are final.
+class BruteForceBroadPhase : public BroadPhaseInterface
 {
 public:
     explicit BruteForceBroadPhase(const FatPolicy& policy = FatPolicy{});
 
-    ProxyId CreateProxy(const Box& tight, void* userData) override;
-    void DestroyProxy(ProxyId id) override;
-    bool MoveProxy(ProxyId id, const Box& tight, Vec2 displacement) override;
-    void TouchProxy(ProxyId id) override;
+    ProxyId CreateProxy(const Box& tight, void* userData) final;
+    void DestroyProxy(ProxyId id) final;
+    bool MoveProxy(ProxyId id, const Box& tight, Vec2 displacement) final;
+    void TouchProxy(ProxyId id) final;
     void FindPairs(std::vector<Pair>& out) override;
-    void Query(const Box& box, QueryFn fn, void* context) const override;
-    void RayCast(const RayInput& input, RayCastFn fn, void* context) const override;
+    void Query(const Box& box, QueryFn fn, void* context) const final;
+    void RayCast(const RayInput& input, RayCastFn fn, void* context) const final;
     void ShiftOrigin(Vec2 newOrigin) override;
-    const Box& GetFatBox(ProxyId id) const override;
-    void* GetUserData(ProxyId id) const override;
-    int32_t GetProxyCount() const override { return m_pool.LiveCount(); }
+    const Box& GetFatBox(ProxyId id) const final;
+    void* GetUserData(ProxyId id) const final;
+    int32_t GetProxyCount() const final { return m_pool.LiveCount(); }
 
-private:
+protected:
     FatPolicy m_policy;
     ProxyPool m_pool;
     std::vector<ProxyId> m_work;

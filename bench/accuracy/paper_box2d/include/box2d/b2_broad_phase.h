@@ -62,10 +62,16 @@ public:
     b2BroadPhase(const b2BroadPhase&) = delete;
     b2BroadPhase& operator=(const b2BroadPhase&) = delete;
 
-    int32 CreateProxy(const b2AABB& aabb, void* userData);
-    void DestroyProxy(int32 proxyId);
-    void MoveProxy(int32 proxyId, const b2AABB& aabb, const b2Vec2& displacement);
-    void TouchProxy(int32 proxyId);
+    int32 CreateProxy(const b2AABB& aabb, void* userData)
+    {
+        return m_core.CreateProxy(quadphase::bench::detail::ToBox(aabb), userData);
+    }
+    void DestroyProxy(int32 proxyId) { m_core.DestroyProxy(proxyId); }
+    void MoveProxy(int32 proxyId, const b2AABB& aabb, const b2Vec2& displacement)
+    {
+        m_core.MoveProxy(proxyId, quadphase::bench::detail::ToBox(aabb), {displacement.x, displacement.y});
+    }
+    void TouchProxy(int32 proxyId) { m_core.TouchProxy(proxyId); }
     const b2AABB& GetFatAABB(int32 proxyId) const
     {
         return reinterpret_cast<const b2AABB&>(m_core.GetFatBox(proxyId));
