@@ -220,7 +220,8 @@ def main():
     if args.report_only:
         info = report.read_json(os.path.join(args.work, "machine.json"))
         info["levels"] = [tuple(x) for x in info["levels"]]
-        return write_outputs(args, info, {lv: level_runner(args, lv, d, True).results() for lv, d in info["levels"]})
+        return write_outputs(args, info, {lv: level_runner(args, lv, d, True).results() for lv, d in info["levels"]},
+                             frames(args) if args.full else [])
     t_start = time.time()
     runners = [(lv, d, level_runner(args, lv, d)) for lv, d in args.levels]
     print(f"bench.py: {args.profile} profile, {args.rounds} rounds, levels "
@@ -282,10 +283,11 @@ def main():
     info["quiet_samples"] = [q for _, _, r in runners for q in r.quiet_samples]
     info["loadavg_end"] = open("/proc/loadavg").read().split()[:3]
     report.write_json(os.path.join(args.work, "machine.json"), info)
-    write_outputs(args, info, {lv: r.results() for lv, _, r in runners})
+    # The full run also reports frames (issue 31), on the first level's build, and RESULTS.md quotes their goals.
+    goals = frames(args) if args.full else []
+    info["frame_steps"] = args.frame_steps
+    write_outputs(args, info, {lv: r.results() for lv, _, r in runners}, goals)
     print(f"bench.py: done in {time.time() - t_start:.0f} s; wrote {args.summary} and {args.results}/", flush=True)
-    if args.full:  # the full run also reports frames, on the first level's build (issue 31)
-        frames(args)
 
 
 def frames(args):
@@ -338,16 +340,17 @@ def frames(args):
          TEXT["frames"].format(steps=info.get("steps"), rounds=info.get("rounds"), minutes=info.get("minutes", 0)), ""]
     if frames_plot(args, groups):
         L += ["![ms per step over the run, stock against quadphase's defaults](frames.png)", ""]
-    L += ["## Goals", ""] + table(
+    goals = ["## Goals", ""] + table(
         ["scene", "busy", "proxies at the end", "bp total stock ÷ defaults (≥1)", "1 thread ÷ defaults (≥0.95)",
          "worst bp step ms: defaults / stock (≤1.5×+0.5)", "stock ÷ job system", "1 thread ÷ job system",
-         "worst: job system / stock"], head)
-    L += ["", "Misses: " + (", ".join(sorted(misses)) or "none") + ".", "", "## Per step, ms", ""]
+         "worst: job system / stock"], head) + ["", "Misses: " + (", ".join(sorted(misses)) or "none") + "."]
+    L += goals + ["", "## Per step, ms", ""]
     L += table(["scene", "busy", "engine"] + [f"{m} {st}" for m in ("bp", "step") for st in FRAME_STATS], [
         [f"{r['scene']} {r['size']}", "yes" if r["busy"] else "no", r["engine"]]
         + [fmt(r[f"{m}_{st}"], 3) for m in ("bp", "step") for st in FRAME_STATS] for r in rows])
     report.write_lines(os.path.join(args.results, "frames.md"), L + [""] + report.machine_section(info))
     print(f"bench.py: wrote {args.results}/frames.md, frames.csv", flush=True)
+    return goals
 
 
 def frames_plot(args, groups):
@@ -616,7 +619,7 @@ def threads(engine):
 # ----------------------------------------------------------------------------------------------------------------
 # Outputs
 # ----------------------------------------------------------------------------------------------------------------
-def write_outputs(args, info, rows_by_level):
+def write_outputs(args, info, rows_by_level, frame_goals=()):
     res, levels = args.results, [lv for lv, _ in info["levels"]]
     data = {lv: level_data(rows_by_level[lv], info.get("traces", [])) for lv in levels}
     for name, fields in LEVEL_CSVS.items():
@@ -626,7 +629,7 @@ def write_outputs(args, info, rows_by_level):
         report.write_csv(os.path.join(res, name + ".csv"), data[levels[0]][name])
     report.write_json(os.path.join(res, "bench.json"), {
         "machine": info, "levels": data, "paper_published": paper.TABLES, "reference_this_machine": REFERENCE})
-    report.write_lines(args.summary, markdown(info, data, levels, figures(res, data[levels[0]])))
+    report.write_lines(args.summary, markdown(info, data, levels, figures(res, data[levels[0]]), frame_goals))
 
 
 def figures(res, d):
@@ -716,7 +719,7 @@ def met(ok):
     return "met" if ok else ("not met" if ok is False else "n/a")
 
 
-def markdown(info, data, levels, plots):
+def markdown(info, data, levels, plots, frame_goals=()):
     d = data[levels[0]]
     by, rp = keyed(d["step"]), keyed(d["replay"])
     command = (" --full" if info["profile"] == "full" else "") + (" --opt both" if len(levels) > 1 else "")
@@ -730,7 +733,14 @@ def markdown(info, data, levels, plots):
              "unless a column says otherwise.")
     if info.get("engines_missing"):
         L.append(f"- not built (Chipmunk2D / Bullet missing at configure time): {', '.join(info['engines_missing'])}")
-    L += [""] + headline(d, by, rp, levels[0]) + step_section(d, by, plots) + phase_section(data, levels)
+    L += [""] + headline(d, by, rp, levels[0])
+    if frame_goals:  # "## Goals" becomes this report's frames section, with the per-step tables in frames.md
+        L += ["## Frames: worst step and total at the defaults (issue 31)", "",
+              f"Issue 31's goals from this run's frames section: {info.get('frame_steps', 600)} steps from the first, "
+              "as a game runs the library, "
+              "alone and beside a busy thread; [results/frames.md](results/frames.md) explains the columns and the "
+              "best-round rule and has the per-step tables.", ""] + frame_goals[2:] + [""]
+    L += step_section(d, by, plots) + phase_section(data, levels)
     L += replay_section(d, rp, plots) + levels_section(data, levels) + query_section(d) + circles_section(d, plots)
     L += ["## Notes", "", TEXT["notes"],
           "- Run time: " + ", ".join(f"{k} {v:.0f} s" for k, v in info["timing"].items() if k != "total_s") + ".", ""]
