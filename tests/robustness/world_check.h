@@ -19,12 +19,16 @@ struct Observed
 {
     bool finite = true;    ///< positions, angles and velocities stayed finite
     float maxSpeed = 0.0f; ///< largest linear speed of a dynamic body after any step (m/s)
+    float lowestY = 1e9f;  ///< lowest centre (y) of a dynamic body after any step
     int steps = 0;
 };
 
 /// Steps `world` `steps` times at 1/60 s with 8 velocity and 3 position iterations and observes every dynamic
 /// body after each step. `after(step)`, when given, runs after each step (before the observation).
 Observed StepWorld(b2World& world, int steps, const std::function<void(int)>& after = {});
+
+/// Prints one line on a run: the build, `name`, what `seen` observed, and `extra`.
+void Print(const char* name, const Observed& seen, const char* extra);
 
 /// Adds a body with one box fixture (half extents hx, hy). density 0 for static bodies.
 b2Body* AddBox(b2World& world, b2BodyType type, b2Vec2 position, float hx, float hy, float density,
