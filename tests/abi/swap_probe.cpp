@@ -57,6 +57,16 @@ struct Hash
             value *= 1099511628211ull;
         }
     }
+    // Sorts `ids` and adds them in that order.
+    template <typename T>
+    void AddSorted(std::vector<T>& ids)
+    {
+        std::sort(ids.begin(), ids.end());
+        for (const T id : ids)
+        {
+            Add(uint64_t(id));
+        }
+    }
 };
 
 uint64_t Index(b2Fixture* f)
@@ -260,11 +270,7 @@ void SensorScene()
                 box.lowerBound.Set(Uniform(-60.0f, 50.0f), Uniform(-60.0f, 50.0f));
                 box.upperBound = box.lowerBound + b2Vec2(Uniform(0.5f, 15.0f), Uniform(0.5f, 15.0f));
                 world.QueryAABB(&hits, box);
-                std::sort(hits.ids.begin(), hits.ids.end());
-                for (size_t k = 0; k < hits.ids.size(); ++k)
-                {
-                    q.Add(hits.ids[k]);
-                }
+                q.AddSorted(hits.ids);
                 q.Add(~uint64_t(0));
             }
             for (int i = 0; i < 50; ++i)
@@ -276,11 +282,7 @@ void SensorScene()
                 const b2Vec2 p2(Uniform(-70.0f, 70.0f), Uniform(-70.0f, 70.0f));
                 world.RayCast(&all, p1, p2);
                 world.RayCast(&closest, p1, p2);
-                std::sort(all.ids.begin(), all.ids.end());
-                for (size_t k = 0; k < all.ids.size(); ++k)
-                {
-                    q.Add(all.ids[k]);
-                }
+                q.AddSorted(all.ids);
                 q.Add(closest.closestId);
             }
             std::printf("sensors queries step %d hash %016" PRIx64 "\n", step, q.value);
@@ -502,11 +504,7 @@ void TemplateScene()
         box.lowerBound.Set(Uniform(-45.0f, 40.0f), Uniform(-45.0f, 40.0f));
         box.upperBound = box.lowerBound + b2Vec2(Uniform(0.5f, 12.0f), Uniform(0.5f, 12.0f));
         bp.Query(&hits, box);
-        std::sort(hits.hits.begin(), hits.hits.end());
-        for (size_t k = 0; k < hits.hits.size(); ++k)
-        {
-            q.Add(hits.hits[k]);
-        }
+        q.AddSorted(hits.hits);
         q.Add(~uint64_t(0));
     }
     for (int i = 0; i < 30; ++i)
@@ -518,11 +516,7 @@ void TemplateScene()
         input.p2.Set(Uniform(-50.0f, 50.0f), Uniform(-50.0f, 50.0f));
         input.maxFraction = 1.0f;
         bp.RayCast(&hits, input);
-        std::sort(hits.hits.begin(), hits.hits.end());
-        for (size_t k = 0; k < hits.hits.size(); ++k)
-        {
-            q.Add(hits.hits[k]);
-        }
+        q.AddSorted(hits.hits);
         q.Add(~uint64_t(0));
     }
     std::printf("templates Query and RayCast hash %016" PRIx64 "\n", q.value);
