@@ -254,6 +254,18 @@ private:
         g_errors = 0;
     }
 
+    /// Makes `call` (DestroyProxy or TouchProxy of one id) on the quadtree, which must report the id once unless
+    /// it is `live`, then on the brute force, whose reports are not counted.
+    template <typename Call>
+    void OnBoth(bool live, const char* what, Call call)
+    {
+        g_errors = 0;
+        call(m_qt);
+        Expect(live ? 0 : 1, what);
+        call(m_bf);
+        g_errors = 0;
+    }
+
     void Create(Reader& in)
     {
         if (int(m_live.size()) >= kMaxLive)
@@ -336,11 +348,7 @@ private:
     {
         const ProxyId id = ReadId(in);
         const bool live = IsLive(id);
-        g_errors = 0;
-        m_qt.DestroyProxy(id);
-        Expect(live ? 0 : 1, "DestroyProxy: error reports");
-        m_bf.DestroyProxy(id);
-        g_errors = 0;
+        OnBoth(live, "DestroyProxy: error reports", [id](auto& bp) { bp.DestroyProxy(id); });
         if (live)
         {
             // swap-remove: O(1)
@@ -359,12 +367,7 @@ private:
     void Touch(Reader& in)
     {
         const ProxyId id = ReadId(in);
-        const bool live = IsLive(id);
-        g_errors = 0;
-        m_qt.TouchProxy(id);
-        Expect(live ? 0 : 1, "TouchProxy: error reports");
-        m_bf.TouchProxy(id);
-        g_errors = 0;
+        OnBoth(IsLive(id), "TouchProxy: error reports", [id](auto& bp) { bp.TouchProxy(id); });
     }
 
     /// Drops the pairs of proxies whose last box was bad; the order is kept.
