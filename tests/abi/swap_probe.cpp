@@ -221,6 +221,15 @@ float Uniform(float lo, float hi)
     return lo + (hi - lo) * float(g_rng >> 8) * (1.0f / 16777216.0f);
 }
 
+// A box whose lower corner is uniform in [lo, hi)^2 and whose sides are uniform in [minSide, maxSide).
+b2AABB RandomBox(float lo, float hi, float minSide, float maxSide)
+{
+    b2AABB box;
+    box.lowerBound.Set(Uniform(lo, hi), Uniform(lo, hi));
+    box.upperBound = box.lowerBound + b2Vec2(Uniform(minSide, maxSide), Uniform(minSide, maxSide));
+    return box;
+}
+
 void SensorScene()
 {
     b2World world(b2Vec2(0.0f, 0.0f));
@@ -266,9 +275,7 @@ void SensorScene()
             for (int i = 0; i < 50; ++i)
             {
                 QueryHits hits;
-                b2AABB box;
-                box.lowerBound.Set(Uniform(-60.0f, 50.0f), Uniform(-60.0f, 50.0f));
-                box.upperBound = box.lowerBound + b2Vec2(Uniform(0.5f, 15.0f), Uniform(0.5f, 15.0f));
+                const b2AABB box = RandomBox(-60.0f, 50.0f, 0.5f, 15.0f);
                 world.QueryAABB(&hits, box);
                 q.AddSorted(hits.ids);
                 q.Add(~uint64_t(0));
@@ -464,9 +471,7 @@ void TemplateScene()
     std::vector<int32> ids;
     for (int i = 0; i < 300; ++i)
     {
-        b2AABB box;
-        box.lowerBound.Set(Uniform(-40.0f, 40.0f), Uniform(-40.0f, 40.0f));
-        box.upperBound = box.lowerBound + b2Vec2(Uniform(0.2f, 3.0f), Uniform(0.2f, 3.0f));
+        const b2AABB box = RandomBox(-40.0f, 40.0f, 0.2f, 3.0f);
         ids.push_back(bp.CreateProxy(box, reinterpret_cast<void*>(uintptr_t(i + 1))));
     }
     PrintPairs("created", bp);
@@ -500,9 +505,7 @@ void TemplateScene()
     {
         HitCollector hits;
         hits.bp = &bp;
-        b2AABB box;
-        box.lowerBound.Set(Uniform(-45.0f, 40.0f), Uniform(-45.0f, 40.0f));
-        box.upperBound = box.lowerBound + b2Vec2(Uniform(0.5f, 12.0f), Uniform(0.5f, 12.0f));
+        const b2AABB box = RandomBox(-45.0f, 40.0f, 0.5f, 12.0f);
         bp.Query(&hits, box);
         q.AddSorted(hits.hits);
         q.Add(~uint64_t(0));
