@@ -67,6 +67,13 @@ struct Hash
             Add(uint64_t(id));
         }
     }
+    // One call's hits as a set: AddSorted, then a separator.
+    template <typename T>
+    void AddSet(std::vector<T>& ids)
+    {
+        AddSorted(ids);
+        Add(~uint64_t(0));
+    }
 };
 
 uint64_t Index(b2Fixture* f)
@@ -275,10 +282,8 @@ void SensorScene()
             for (int i = 0; i < 50; ++i)
             {
                 QueryHits hits;
-                const b2AABB box = RandomBox(-60.0f, 50.0f, 0.5f, 15.0f);
-                world.QueryAABB(&hits, box);
-                q.AddSorted(hits.ids);
-                q.Add(~uint64_t(0));
+                world.QueryAABB(&hits, RandomBox(-60.0f, 50.0f, 0.5f, 15.0f));
+                q.AddSet(hits.ids);
             }
             for (int i = 0; i < 50; ++i)
             {
@@ -505,10 +510,8 @@ void TemplateScene()
     {
         HitCollector hits;
         hits.bp = &bp;
-        const b2AABB box = RandomBox(-45.0f, 40.0f, 0.5f, 12.0f);
-        bp.Query(&hits, box);
-        q.AddSorted(hits.hits);
-        q.Add(~uint64_t(0));
+        bp.Query(&hits, RandomBox(-45.0f, 40.0f, 0.5f, 12.0f));
+        q.AddSet(hits.hits);
     }
     for (int i = 0; i < 30; ++i)
     {
@@ -519,8 +522,7 @@ void TemplateScene()
         input.p2.Set(Uniform(-50.0f, 50.0f), Uniform(-50.0f, 50.0f));
         input.maxFraction = 1.0f;
         bp.RayCast(&hits, input);
-        q.AddSorted(hits.hits);
-        q.Add(~uint64_t(0));
+        q.AddSet(hits.hits);
     }
     std::printf("templates Query and RayCast hash %016" PRIx64 "\n", q.value);
     std::printf("templates tree height %d balance %d quality %a\n", bp.GetTreeHeight(), bp.GetTreeBalance(),

@@ -3,7 +3,6 @@
 // quadphase build must give exactly the stock tree's pairs (validation mode, 0 mismatches). Each prints a
 // one-line summary, the figures of docs/robustness.md.
 #include <cmath>
-#include <cstdio>
 #include <memory>
 #include <vector>
 
@@ -42,15 +41,9 @@ TEST_CASE("stiff: a stack with 1:1000 mass ratios does not explode", "[stiff]")
     }
     const Observed seen = StepWorld(*world, 600);
 
-    float spread = 0.0f;
-    for (b2Body* b : stack)
-    {
-        spread = std::fmax(spread, std::fabs(b->GetPosition().x));
-    }
-    char extra[160];
-    std::snprintf(extra, sizeof(extra), "lowest centre ever %.3f, largest final |x| %.3f, top y %.3f",
-                  double(seen.lowestY), double(spread), double(stack.back()->GetPosition().y));
-    Print("mass ratio 1:1000 stack of 8", seen, extra);
+    const float spread = LargestAbsX(stack);
+    Print("mass ratio 1:1000 stack of 8", seen, "lowest centre ever %.3f, largest final |x| %.3f, top y %.3f",
+          double(seen.lowestY), double(spread), double(stack.back()->GetPosition().y));
     REQUIRE(seen.finite);
     CHECK(seen.maxSpeed < 15.0f); // a free fall from the top of the stack reaches 12.5 m/s
     CHECK(seen.lowestY > 0.4f);   // nothing sank into the ground (a box's centre rests at 0.5)
@@ -70,15 +63,9 @@ TEST_CASE("stiff: a tower of 40 bricks stands", "[stiff]")
     }
     const Observed seen = StepWorld(*world, 600);
 
-    float maxDrift = 0.0f;
-    for (b2Body* b : tower)
-    {
-        maxDrift = std::fmax(maxDrift, std::fabs(b->GetPosition().x));
-    }
-    char extra[160];
-    std::snprintf(extra, sizeof(extra), "top y %.3f (start 19.75), largest |x| %.3f",
-                  double(tower.back()->GetPosition().y), double(maxDrift));
-    Print("tower of 40 bricks (2 x 0.5 m)", seen, extra);
+    const float maxDrift = LargestAbsX(tower);
+    Print("tower of 40 bricks (2 x 0.5 m)", seen, "top y %.3f (start 19.75), largest |x| %.3f",
+          double(tower.back()->GetPosition().y), double(maxDrift));
     REQUIRE(seen.finite);
     CHECK(seen.maxSpeed < 5.0f);
     CHECK(tower.back()->GetPosition().y > 19.0f); // still standing (it settles by the boxes' skins)
@@ -103,10 +90,8 @@ TEST_CASE("stiff: a heavy plank on light boxes", "[stiff]")
     b2Body* plank = AddBox(*world, b2_dynamicBody, b2Vec2(0.0f, 1.6f), 3.0f, 0.1f, 1000.0f);
     const Observed seen = StepWorld(*world, 600);
 
-    char extra[160];
-    std::snprintf(extra, sizeof(extra), "plank y %.3f (start 1.6), plank angle %.4f",
-                  double(plank->GetPosition().y), double(plank->GetAngle()));
-    Print("heavy plank on light boxes", seen, extra);
+    Print("heavy plank on light boxes", seen, "plank y %.3f (start 1.6), plank angle %.4f",
+          double(plank->GetPosition().y), double(plank->GetAngle()));
     REQUIRE(seen.finite);
     CHECK(seen.maxSpeed < 10.0f);
     // stock squeezes the light boxes out from under the plank, which then rests on the ground (y = 0.1 +
@@ -132,10 +117,8 @@ TEST_CASE("stiff: a pyramid under 10x gravity", "[stiff]")
     }
     const Observed seen = StepWorld(*world, 600);
 
-    char extra[160];
-    std::snprintf(extra, sizeof(extra), "lowest box centre ever %.3f, touching contacts %d",
-                  double(seen.lowestY), TouchingContacts(*world));
-    Print("pyramid of 78 under 10x gravity", seen, extra);
+    Print("pyramid of 78 under 10x gravity", seen, "lowest box centre ever %.3f, touching contacts %d",
+          double(seen.lowestY), TouchingContacts(*world));
     REQUIRE(seen.finite);
     CHECK(seen.maxSpeed < 20.0f);
     CHECK(seen.lowestY > 0.3f); // no box through the ground
@@ -194,9 +177,7 @@ TEST_CASE("stiff: bullets at 300 m/s do not pass thin walls (continuous collisio
         }
     });
 
-    char extra[160];
-    std::snprintf(extra, sizeof(extra), "bullet-steps beyond their wall %d", passed);
-    Print("24 bullets at 300 m/s vs 5 cm walls", seen, extra);
+    Print("24 bullets at 300 m/s vs 5 cm walls", seen, "bullet-steps beyond their wall %d", passed);
     REQUIRE(seen.finite);
     CHECK(passed == 0);
     exact.Require(120);

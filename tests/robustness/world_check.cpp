@@ -1,6 +1,7 @@
 #include "world_check.h"
 
 #include <cmath>
+#include <cstdarg>
 #include <cstdio>
 #include <string>
 
@@ -81,8 +82,13 @@ Observed StepWorld(b2World& world, int steps, const std::function<void(int)>& af
     return seen;
 }
 
-void Print(const char* name, const Observed& seen, const char* extra)
+void Print(const char* name, const Observed& seen, const char* format, ...)
 {
+    char extra[256];
+    va_list args;
+    va_start(args, format);
+    std::vsnprintf(extra, sizeof(extra), format, args);
+    va_end(args);
     std::printf("[%s] %s: %d steps, finite %d, max speed %.3f m/s, %s\n", VariantName(), name, seen.steps,
                 int(seen.finite), double(seen.maxSpeed), extra);
 }
@@ -124,6 +130,16 @@ bool AllDynamicInside(const b2World& world, const b2AABB& region)
         }
     }
     return true;
+}
+
+float LargestAbsX(const std::vector<b2Body*>& bodies)
+{
+    float largest = 0.0f;
+    for (const b2Body* b : bodies)
+    {
+        largest = std::fmax(largest, std::fabs(b->GetPosition().x));
+    }
+    return largest;
 }
 
 int TouchingContacts(const b2World& world)
