@@ -125,6 +125,22 @@ void FrameRenderer::Render(const b2World& world, const Overlay& overlay, bool dr
             colour = body->IsAwake() ? Rgb{1.0, 1.0, 1.0} : Rgb{0.55, 0.55, 0.62};
         }
         const b2Transform& xf = body->GetTransform();
+        // A new path through the vertices, in body coordinates (open: the caller closes it if it must).
+        auto polyline = [&](const b2Vec2* vertices, int32 count) {
+            cairo_new_path(c);
+            for (int32 i = 0; i < count; ++i)
+            {
+                const b2Vec2 p = b2Mul(xf, vertices[i]);
+                if (i == 0)
+                {
+                    cairo_move_to(c, px(p.x), py(p.y));
+                }
+                else
+                {
+                    cairo_line_to(c, px(p.x), py(p.y));
+                }
+            }
+        };
         for (const b2Fixture* fixture = body->GetFixtureList(); fixture != nullptr;
              fixture = fixture->GetNext())
         {
@@ -161,19 +177,7 @@ void FrameRenderer::Render(const b2World& world, const Overlay& overlay, bool dr
             case b2Shape::e_polygon:
             {
                 const auto* polygon = static_cast<const b2PolygonShape*>(shape);
-                cairo_new_path(c);
-                for (int32 i = 0; i < polygon->m_count; ++i)
-                {
-                    const b2Vec2 p = b2Mul(xf, polygon->m_vertices[i]);
-                    if (i == 0)
-                    {
-                        cairo_move_to(c, px(p.x), py(p.y));
-                    }
-                    else
-                    {
-                        cairo_line_to(c, px(p.x), py(p.y));
-                    }
-                }
+                polyline(polygon->m_vertices, polygon->m_count);
                 cairo_close_path(c);
                 break;
             }
@@ -191,19 +195,7 @@ void FrameRenderer::Render(const b2World& world, const Overlay& overlay, bool dr
             case b2Shape::e_chain:
             {
                 const auto* chain = static_cast<const b2ChainShape*>(shape);
-                cairo_new_path(c);
-                for (int32 i = 0; i < chain->m_count; ++i)
-                {
-                    const b2Vec2 p = b2Mul(xf, chain->m_vertices[i]);
-                    if (i == 0)
-                    {
-                        cairo_move_to(c, px(p.x), py(p.y));
-                    }
-                    else
-                    {
-                        cairo_line_to(c, px(p.x), py(p.y));
-                    }
-                }
+                polyline(chain->m_vertices, chain->m_count);
                 closed = false;
                 break;
             }

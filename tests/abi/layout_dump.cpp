@@ -24,6 +24,17 @@
 #define QP_SIZE(type)                                                                                        \
     std::printf("sizeof(%s) %zu\nalignof(%s) %zu\n", #type, sizeof(type), #type, alignof(type))
 
+// The members whose names differ: quadphase's tree view drops stock's m_ prefixes.
+#if defined(QUADPHASE_LAYOUT)
+#define QP_TREE(field) m_tree.field
+#define QP_TREE_TYPE b2BroadPhase::b2TreeView
+#define QP_MOVE_BUFFER m_state
+#else
+#define QP_TREE(field) m_tree.m_##field
+#define QP_TREE_TYPE b2DynamicTree
+#define QP_MOVE_BUFFER m_moveBuffer
+#endif
+
 int main()
 {
     QP_SIZE(b2BroadPhase);
@@ -32,25 +43,14 @@ int main()
     QP_SIZE(b2TreeNode);
     QP_SIZE(b2Pair);
 
-#if defined(QUADPHASE_LAYOUT)
-    QP_OFFSET(b2BroadPhase, m_tree.root, "m_tree.m_root");
-    QP_OFFSET(b2BroadPhase, m_tree.nodes, "m_tree.m_nodes");
-    QP_OFFSET(b2BroadPhase, m_tree.nodeCount, "m_tree.m_nodeCount");
-    QP_OFFSET(b2BroadPhase, m_tree.nodeCapacity, "m_tree.m_nodeCapacity");
-    QP_OFFSET(b2BroadPhase, m_tree.freeList, "m_tree.m_freeList");
-    QP_OFFSET(b2BroadPhase, m_tree.insertionCount, "m_tree.m_insertionCount");
-    QP_OFFSET(b2BroadPhase, m_state, "m_moveBuffer");
-    std::printf("sizeof(b2BroadPhase::m_tree) %zu\n", sizeof(b2BroadPhase::b2TreeView));
-#else
-    QP_OFFSET(b2BroadPhase, m_tree.m_root, "m_tree.m_root");
-    QP_OFFSET(b2BroadPhase, m_tree.m_nodes, "m_tree.m_nodes");
-    QP_OFFSET(b2BroadPhase, m_tree.m_nodeCount, "m_tree.m_nodeCount");
-    QP_OFFSET(b2BroadPhase, m_tree.m_nodeCapacity, "m_tree.m_nodeCapacity");
-    QP_OFFSET(b2BroadPhase, m_tree.m_freeList, "m_tree.m_freeList");
-    QP_OFFSET(b2BroadPhase, m_tree.m_insertionCount, "m_tree.m_insertionCount");
-    QP_OFFSET(b2BroadPhase, m_moveBuffer, "m_moveBuffer");
-    std::printf("sizeof(b2BroadPhase::m_tree) %zu\n", sizeof(b2DynamicTree));
-#endif
+    QP_OFFSET(b2BroadPhase, QP_TREE(root), "m_tree.m_root");
+    QP_OFFSET(b2BroadPhase, QP_TREE(nodes), "m_tree.m_nodes");
+    QP_OFFSET(b2BroadPhase, QP_TREE(nodeCount), "m_tree.m_nodeCount");
+    QP_OFFSET(b2BroadPhase, QP_TREE(nodeCapacity), "m_tree.m_nodeCapacity");
+    QP_OFFSET(b2BroadPhase, QP_TREE(freeList), "m_tree.m_freeList");
+    QP_OFFSET(b2BroadPhase, QP_TREE(insertionCount), "m_tree.m_insertionCount");
+    QP_OFFSET(b2BroadPhase, QP_MOVE_BUFFER, "m_moveBuffer");
+    std::printf("sizeof(b2BroadPhase::m_tree) %zu\n", sizeof(QP_TREE_TYPE));
     QP_OFFSET(b2BroadPhase, m_proxyCount, "m_proxyCount");
     QP_OFFSET(b2BroadPhase, m_moveCapacity, "m_moveCapacity");
     QP_OFFSET(b2BroadPhase, m_moveCount, "m_moveCount");

@@ -57,6 +57,23 @@ struct Hash
             value *= 1099511628211ull;
         }
     }
+    // Sorts `ids` and adds them in that order.
+    template <typename T>
+    void AddSorted(std::vector<T>& ids)
+    {
+        std::sort(ids.begin(), ids.end());
+        for (const T id : ids)
+        {
+            Add(uint64_t(id));
+        }
+    }
+    // One call's hits as a set: AddSorted, then a separator.
+    template <typename T>
+    void AddSet(std::vector<T>& ids)
+    {
+        AddSorted(ids);
+        Add(~uint64_t(0));
+    }
 };
 
 uint64_t Index(b2Fixture* f)
@@ -211,6 +228,15 @@ float Uniform(float lo, float hi)
     return lo + (hi - lo) * float(g_rng >> 8) * (1.0f / 16777216.0f);
 }
 
+// A box whose lower corner is uniform in [lo, hi)^2 and whose sides are uniform in [minSide, maxSide).
+b2AABB RandomBox(float lo, float hi, float minSide, float maxSide)
+{
+    b2AABB box;
+    box.lowerBound.Set(Uniform(lo, hi), Uniform(lo, hi));
+    box.upperBound = box.lowerBound + b2Vec2(Uniform(minSide, maxSide), Uniform(minSide, maxSide));
+    return box;
+}
+
 void SensorScene()
 {
     b2World world(b2Vec2(0.0f, 0.0f));
@@ -256,16 +282,8 @@ void SensorScene()
             for (int i = 0; i < 50; ++i)
             {
                 QueryHits hits;
-                b2AABB box;
-                box.lowerBound.Set(Uniform(-60.0f, 50.0f), Uniform(-60.0f, 50.0f));
-                box.upperBound = box.lowerBound + b2Vec2(Uniform(0.5f, 15.0f), Uniform(0.5f, 15.0f));
-                world.QueryAABB(&hits, box);
-                std::sort(hits.ids.begin(), hits.ids.end());
-                for (size_t k = 0; k < hits.ids.size(); ++k)
-                {
-                    q.Add(hits.ids[k]);
-                }
-                q.Add(~uint64_t(0));
+                world.QueryAABB(&hits, RandomBox(-60.0f, 50.0f, 0.5f, 15.0f));
+                q.AddSet(hits.ids);
             }
             for (int i = 0; i < 50; ++i)
             {
@@ -276,11 +294,7 @@ void SensorScene()
                 const b2Vec2 p2(Uniform(-70.0f, 70.0f), Uniform(-70.0f, 70.0f));
                 world.RayCast(&all, p1, p2);
                 world.RayCast(&closest, p1, p2);
-                std::sort(all.ids.begin(), all.ids.end());
-                for (size_t k = 0; k < all.ids.size(); ++k)
-                {
-                    q.Add(all.ids[k]);
-                }
+                q.AddSorted(all.ids);
                 q.Add(closest.closestId);
             }
             std::printf("sensors queries step %d hash %016" PRIx64 "\n", step, q.value);
@@ -462,9 +476,7 @@ void TemplateScene()
     std::vector<int32> ids;
     for (int i = 0; i < 300; ++i)
     {
-        b2AABB box;
-        box.lowerBound.Set(Uniform(-40.0f, 40.0f), Uniform(-40.0f, 40.0f));
-        box.upperBound = box.lowerBound + b2Vec2(Uniform(0.2f, 3.0f), Uniform(0.2f, 3.0f));
+        const b2AABB box = RandomBox(-40.0f, 40.0f, 0.2f, 3.0f);
         ids.push_back(bp.CreateProxy(box, reinterpret_cast<void*>(uintptr_t(i + 1))));
     }
     PrintPairs("created", bp);
@@ -498,16 +510,8 @@ void TemplateScene()
     {
         HitCollector hits;
         hits.bp = &bp;
-        b2AABB box;
-        box.lowerBound.Set(Uniform(-45.0f, 40.0f), Uniform(-45.0f, 40.0f));
-        box.upperBound = box.lowerBound + b2Vec2(Uniform(0.5f, 12.0f), Uniform(0.5f, 12.0f));
-        bp.Query(&hits, box);
-        std::sort(hits.hits.begin(), hits.hits.end());
-        for (size_t k = 0; k < hits.hits.size(); ++k)
-        {
-            q.Add(hits.hits[k]);
-        }
-        q.Add(~uint64_t(0));
+        bp.Query(&hits, RandomBox(-45.0f, 40.0f, 0.5f, 12.0f));
+        q.AddSet(hits.hits);
     }
     for (int i = 0; i < 30; ++i)
     {
@@ -518,12 +522,7 @@ void TemplateScene()
         input.p2.Set(Uniform(-50.0f, 50.0f), Uniform(-50.0f, 50.0f));
         input.maxFraction = 1.0f;
         bp.RayCast(&hits, input);
-        std::sort(hits.hits.begin(), hits.hits.end());
-        for (size_t k = 0; k < hits.hits.size(); ++k)
-        {
-            q.Add(hits.hits[k]);
-        }
-        q.Add(~uint64_t(0));
+        q.AddSet(hits.hits);
     }
     std::printf("templates Query and RayCast hash %016" PRIx64 "\n", q.value);
     std::printf("templates tree height %d balance %d quality %a\n", bp.GetTreeHeight(), bp.GetTreeBalance(),

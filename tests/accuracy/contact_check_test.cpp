@@ -7,6 +7,7 @@
 #include <random>
 
 #include "contact_check.h"
+#include "quadphase_scenes/scenes.h"
 
 namespace
 {
@@ -14,6 +15,7 @@ namespace
 using quadphase::accuracy::CheckMissedContacts;
 using quadphase::accuracy::KineticEnergy;
 using quadphase::accuracy::MeasurePenetration;
+using quadphase::scenes::AddBody;
 
 constexpr float kDt = 1.0f / 60.0f;
 
@@ -24,30 +26,21 @@ std::unique_ptr<b2World> MakeWorld()
 
 b2Body* AddBox(b2World& world, b2BodyType type, b2Vec2 position, float half, int16 group = 0)
 {
-    b2BodyDef bd;
-    bd.type = type;
-    bd.position = position;
-    b2Body* body = world.CreateBody(&bd);
     b2PolygonShape shape;
     shape.SetAsBox(half, half);
-    b2FixtureDef fd;
-    fd.shape = &shape;
-    fd.density = 1.0f;
-    fd.filter.groupIndex = group;
-    body->CreateFixture(&fd);
-    return body;
+    b2FixtureDef material;
+    material.density = 1.0f;
+    material.filter.groupIndex = group;
+    return AddBody(world, type, position, shape, material);
 }
 
 b2Body* AddCircle(b2World& world, b2BodyType type, b2Vec2 position, float radius)
 {
-    b2BodyDef bd;
-    bd.type = type;
-    bd.position = position;
-    b2Body* body = world.CreateBody(&bd);
     b2CircleShape shape;
     shape.m_radius = radius;
-    body->CreateFixture(&shape, 1.0f);
-    return body;
+    b2FixtureDef material;
+    material.density = 1.0f;
+    return AddBody(world, type, position, shape, material);
 }
 
 class RejectAll : public b2ContactFilter

@@ -54,6 +54,7 @@
 #include <utility>
 #include <vector>
 
+#include "../core/slab_clip.h"
 #include "box2d/box2d.h"
 #include "quadphase_scenes/scenes.h"
 
@@ -688,29 +689,35 @@ std::vector<Live> LiveChildren(const Names& names)
     return live;
 }
 
+// Random points of the grid and random live fixture children, for MakeQueries and MakeRays.
+struct Draws
+{
+    const Grid& g;
+    const std::vector<Live>& live;
+    Rng& rng;
+
+    b2Vec2 InGrid(float margin) const { return g.RandomPoint(rng, margin); }
+    const Live& RandomLive() const { return live[rng.Index(uint32_t(live.size()))]; }
+};
+
 std::vector<b2AABB> MakeQueries(const Prepared& p, const std::vector<Live>& live, Rng& rng)
 {
     const Grid& g = p.grid;
     const float leaf = g.Leaf();
     const float side = g.side;
-    auto inGrid = [&](float margin) {
-        return g.RandomPoint(rng, margin);
-    };
-    auto randomLive = [&]() -> const Live& {
-        return live[rng.Index(uint32_t(live.size()))];
-    };
+    const Draws d{g, live, rng};
 
     std::vector<b2AABB> q;
     // Tiny.
     for (int i = 0; i < 40; ++i)
     {
-        const b2Vec2 c = (i % 2 == 0) ? inGrid(0.0f) : randomLive().fixture->GetAABB(0).GetCenter();
+        const b2Vec2 c = (i % 2 == 0) ? d.InGrid(0.0f) : d.RandomLive().fixture->GetAABB(0).GetCenter();
         q.push_back(Around(c, rng.Uniform(0.001f, 0.05f), rng.Uniform(0.001f, 0.05f)));
     }
     // About one leaf cell, anywhere.
     for (int i = 0; i < 40; ++i)
     {
-        q.push_back(Around(inGrid(leaf), leaf * rng.Uniform(0.3f, 0.7f), leaf * rng.Uniform(0.3f, 0.7f)));
+        q.push_back(Around(d.InGrid(leaf), leaf * rng.Uniform(0.3f, 0.7f), leaf * rng.Uniform(0.3f, 0.7f)));
     }
     // Exactly one or more cells of some level; a third of them collapsed onto a cell border line or corner.
     for (int i = 0; i < 40; ++i)
@@ -742,7 +749,7 @@ std::vector<b2AABB> MakeQueries(const Prepared& p, const std::vector<Live>& live
     // Medium to large.
     for (int i = 0; i < 30; ++i)
     {
-        q.push_back(Around(inGrid(0.0f), side * rng.Uniform(1.0f / 32.0f, 0.5f),
+        q.push_back(Around(d.InGrid(0.0f), side * rng.Uniform(1.0f / 32.0f, 0.5f),
                            side * rng.Uniform(1.0f / 32.0f, 0.5f)));
     }
     // Huge.
@@ -789,7 +796,7 @@ std::vector<b2AABB> MakeQueries(const Prepared& p, const std::vector<Live>& live
     // Zero width, zero height, zero area.
     for (int i = 0; i < 30; ++i)
     {
-        const b2Vec2 c = (i % 3 == 0) ? randomLive().fixture->GetAABB(0).GetCenter() : inGrid(0.0f);
+        const b2Vec2 c = (i % 3 == 0) ? d.RandomLive().fixture->GetAABB(0).GetCenter() : d.InGrid(0.0f);
         const float l = side * rng.Uniform(0.0f, 0.2f);
         switch (i % 3)
         {
@@ -808,7 +815,7 @@ std::vector<b2AABB> MakeQueries(const Prepared& p, const std::vector<Live>& live
     // the fat box itself, the tight box.
     for (int i = 0; i < 60; ++i)
     {
-        const Live& l = randomLive();
+        const Live& l = d.RandomLive();
         const b2AABB fat = Fatten(l.fixture->GetAABB(l.child));
         const float s = rng.Uniform(0.01f, 2.0f);
         const float up = std::nextafter(fat.upperBound.x, FLT_MAX);
@@ -846,7 +853,7 @@ std::vector<b2AABB> MakeQueries(const Prepared& p, const std::vector<Live>& live
     while (int(q.size()) < kQueriesPerScene)
     {
         const float s = std::ldexp(side, -int(rng.Index(uint32_t(g.depth + 4))));
-        q.push_back(Around(inGrid(0.1f * side), s * rng.Uniform01(), s * rng.Uniform01()));
+        q.push_back(Around(d.InGrid(0.1f * side), s * rng.Uniform01(), s * rng.Uniform01()));
     }
     return q;
 }
@@ -865,15 +872,10 @@ std::vector<Ray> MakeRays(const Prepared& p, const std::vector<Live>& live, Rng&
     const Grid& g = p.grid;
     const float leaf = g.Leaf();
     const float side = g.side;
-    auto inGrid = [&](float margin) {
-        return g.RandomPoint(rng, margin);
-    };
+    const Draws d{g, live, rng};
     auto direction = [&]() {
         const float a = rng.Uniform(-b2_pi, b2_pi);
         return b2Vec2(std::cos(a), std::sin(a));
-    };
-    auto randomLive = [&]() -> const Live& {
-        return live[rng.Index(uint32_t(live.size()))];
     };
 
     std::vector<Ray> rays;
@@ -887,26 +889,26 @@ std::vector<Ray> MakeRays(const Prepared& p, const std::vector<Live>& live, Rng&
     for (int i = 0; i < 40; ++i)
     {
         const b2Vec2 a = (i % 2 == 0)
-                             ? inGrid(0.0f)
-                             : randomLive().fixture->GetAABB(0).GetCenter() + 0.5f * leaf * direction();
+                             ? d.InGrid(0.0f)
+                             : d.RandomLive().fixture->GetAABB(0).GetCenter() + 0.5f * leaf * direction();
         add(a, a + leaf * rng.Uniform(0.1f, 3.0f) * direction());
     }
     // Long, across the world.
     for (int i = 0; i < 40; ++i)
     {
-        add(inGrid(0.0f), inGrid(0.0f));
+        add(d.InGrid(0.0f), d.InGrid(0.0f));
     }
     // 45 degrees.
     for (int i = 0; i < 30; ++i)
     {
-        const b2Vec2 a = inGrid(0.0f);
+        const b2Vec2 a = d.InGrid(0.0f);
         const float d = side * rng.Uniform(0.01f, 0.7f);
         add(a, a + b2Vec2((i & 1) ? d : -d, (i & 2) ? d : -d));
     }
     // Axis-aligned, short and long, both directions.
     for (int i = 0; i < 40; ++i)
     {
-        const b2Vec2 a = inGrid(0.0f);
+        const b2Vec2 a = d.InGrid(0.0f);
         const float d = (i % 4 < 2 ? leaf * rng.Uniform(0.5f, 4.0f) : side * rng.Uniform(0.2f, 1.0f)) *
                         ((i & 1) ? 1.0f : -1.0f);
         add(a, (i % 8 < 4) ? a + b2Vec2(d, 0.0f) : a + b2Vec2(0.0f, d));
@@ -963,10 +965,10 @@ std::vector<Ray> MakeRays(const Prepared& p, const std::vector<Live>& live, Rng&
         switch ((i / 4) % 5)
         {
         case 0:
-            add(outside, inGrid(0.0f));
+            add(outside, d.InGrid(0.0f));
             break;
         case 1:
-            add(outside, outside + 2.0f * (inGrid(0.0f) - outside));
+            add(outside, outside + 2.0f * (d.InGrid(0.0f) - outside));
             break;
         case 2:
             add(outside, outside + side * rng.Uniform(0.1f, 1.0f) * direction());
@@ -975,11 +977,11 @@ std::vector<Ray> MakeRays(const Prepared& p, const std::vector<Live>& live, Rng&
             if (!p.farPoints.empty())
             {
                 const b2Vec2 far = p.farPoints[rng.Index(uint32_t(p.farPoints.size()))];
-                add(inGrid(0.0f), far + b2Vec2(rng.Uniform(-1.0f, 1.0f), rng.Uniform(-1.0f, 1.0f)));
+                add(d.InGrid(0.0f), far + b2Vec2(rng.Uniform(-1.0f, 1.0f), rng.Uniform(-1.0f, 1.0f)));
             }
             else
             {
-                add(outside, inGrid(side));
+                add(outside, d.InGrid(side));
             }
             break;
         default:
@@ -991,7 +993,7 @@ std::vector<Ray> MakeRays(const Prepared& p, const std::vector<Live>& live, Rng&
             }
             else
             {
-                add(inGrid(side), outside);
+                add(d.InGrid(side), outside);
             }
             break;
         }
@@ -999,7 +1001,7 @@ std::vector<Ray> MakeRays(const Prepared& p, const std::vector<Live>& live, Rng&
     // Along the edges of fat boxes, from their corners, and through fixtures' tight boxes.
     for (int i = 0; i < 30; ++i)
     {
-        const Live& l = randomLive();
+        const Live& l = d.RandomLive();
         const b2AABB tight = l.fixture->GetAABB(l.child);
         const b2AABB fat = Fatten(tight);
         const float s = leaf * rng.Uniform(1.0f, 4.0f);
@@ -1051,7 +1053,7 @@ std::vector<Ray> MakeRays(const Prepared& p, const std::vector<Live>& live, Rng&
     }
     while (int(rays.size()) < kRaysPerScene)
     {
-        add(inGrid(0.2f * side), inGrid(0.2f * side));
+        add(d.InGrid(0.2f * side), d.InGrid(0.2f * side));
     }
     return rays;
 }
@@ -1155,30 +1157,7 @@ bool SegmentCrosses(const Ray& ray, const b2AABB& box, double margin)
     const double lo[2] = {double(box.lowerBound.x) - margin, double(box.lowerBound.y) - margin};
     const double hi[2] = {double(box.upperBound.x) + margin, double(box.upperBound.y) + margin};
     double t0 = 0.0, t1 = 1.0;
-    for (int a = 0; a < 2; ++a)
-    {
-        if (d[a] == 0.0)
-        {
-            if (p[a] < lo[a] || p[a] > hi[a])
-            {
-                return false;
-            }
-            continue;
-        }
-        double ta = (lo[a] - p[a]) / d[a];
-        double tb = (hi[a] - p[a]) / d[a];
-        if (ta > tb)
-        {
-            std::swap(ta, tb);
-        }
-        t0 = std::max(t0, ta);
-        t1 = std::min(t1, tb);
-        if (t0 > t1)
-        {
-            return false;
-        }
-    }
-    return true;
+    return qptest::ClipToSlabs(p, d, lo, hi, t0, t1);
 }
 
 void DumpRays(b2World& world, const Names& names, const std::vector<Live>& live, const std::vector<Ray>& rays,

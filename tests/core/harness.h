@@ -106,6 +106,27 @@ struct HarnessSettings
     bool queueMoves = false; // move the quadtree's proxies with QueueMove (as the Box2D adapter does)
 };
 
+/// Settings for `operations` random operations on about `targetProxies` proxies drawn from `dist`; the rest
+/// default.
+inline HarnessSettings RunSettings(uint32_t seed, Dist dist, int targetProxies, int operations)
+{
+    HarnessSettings s;
+    s.seed = seed;
+    s.dist = dist;
+    s.targetProxies = targetProxies;
+    s.operations = operations;
+    return s;
+}
+
+/// One case of a sweep over distributions and depths: RunSettings at depth `depth`, seed base + 10 dist + depth + 1.
+inline HarnessSettings SweepSettings(uint32_t base, Dist dist, int depth, int targetProxies, int operations)
+{
+    HarnessSettings s =
+        RunSettings(base + uint32_t(int(dist)) * 10u + uint32_t(depth + 1), dist, targetProxies, operations);
+    s.config.depth = depth;
+    return s;
+}
+
 inline std::string Describe(const HarnessSettings& s)
 {
     std::ostringstream os;

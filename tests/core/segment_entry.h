@@ -2,11 +2,9 @@
 // segment test (SegmentTest). No Catch: the fuzz targets use it too (tests/fuzz/strict_segment.h).
 #pragma once
 
-#include <algorithm>
-#include <utility>
-
 #include "quadphase/box.h"
 #include "quadphase/ray.h"
+#include "slab_clip.h"
 
 namespace qptest
 {
@@ -21,30 +19,7 @@ inline double EntryFraction(const quadphase::RayInput& in, const quadphase::Box&
     const double d[2] = {double(in.p2.x) - double(in.p1.x), double(in.p2.y) - double(in.p1.y)};
     const double lo[2] = {double(b.minX), double(b.minY)};
     const double hi[2] = {double(b.maxX), double(b.maxY)};
-    for (int axis = 0; axis < 2; ++axis)
-    {
-        if (d[axis] == 0.0)
-        {
-            if (p[axis] < lo[axis] || p[axis] > hi[axis])
-            {
-                return -1.0;
-            }
-            continue;
-        }
-        double t1 = (lo[axis] - p[axis]) / d[axis];
-        double t2 = (hi[axis] - p[axis]) / d[axis];
-        if (t1 > t2)
-        {
-            std::swap(t1, t2);
-        }
-        tmin = std::max(tmin, t1);
-        tmax = std::min(tmax, t2);
-        if (tmin > tmax)
-        {
-            return -1.0;
-        }
-    }
-    return tmin;
+    return ClipToSlabs(p, d, lo, hi, tmin, tmax) ? tmin : -1.0;
 }
 
 } // namespace qptest

@@ -302,12 +302,8 @@ TEST_CASE("Unknown and destroyed ids are reported and change nothing", "[errors]
     ErrorCounter errors;
     for (int depth : {-1, 0, 4})
     {
-        HarnessSettings s;
-        s.seed = 50500u + uint32_t(depth + 1);
-        s.dist = Dist::Mixed;
+        HarnessSettings s = RunSettings(50500u + uint32_t(depth + 1), Dist::Mixed, 60, 200);
         s.config.depth = depth;
-        s.operations = 200;
-        s.targetProxies = 60;
         INFO("case: " << Describe(s));
         Harness h(s);
         h.Run();

@@ -16,13 +16,8 @@ TEST_CASE("FindPairs with nothing buffered queries no proxy", "[cheap]")
     {
         for (int depth : {-1, 0, 4, 8})
         {
-            HarnessSettings s;
-            s.seed = 90000u + uint32_t(int(dist)) * 10u + uint32_t(depth + 1);
-            s.dist = dist;
-            s.config.depth = depth;
+            HarnessSettings s = SweepSettings(90000u, dist, depth, 300, 500);
             s.config.autoBounds = depth != 4;
-            s.targetProxies = 300;
-            s.operations = 500;
             s.validateEvery = 0;
             INFO("case: " << Describe(s));
             Harness h(s);
@@ -84,10 +79,7 @@ TEST_CASE("FindPairs with nothing buffered queries no proxy", "[cheap]")
 
 TEST_CASE("Touching k proxies queries exactly k, however often each is touched", "[cheap]")
 {
-    HarnessSettings s;
-    s.seed = 91000u;
-    s.targetProxies = 200;
-    s.operations = 400;
+    HarnessSettings s = RunSettings(91000u, Dist::Uniform, 200, 400);
     Harness h(s);
     h.Run();
     QuadtreeBroadPhase& qt = h.Quadtree();

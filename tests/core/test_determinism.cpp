@@ -48,15 +48,10 @@ TEST_CASE("The same calls give the same pairs in the same order", "[determinism]
     {
         for (int depth : {-1, 0, 3, 7})
         {
-            HarnessSettings s;
-            s.seed = 80000u + uint32_t(int(dist)) * 10u + uint32_t(depth + 1);
-            s.dist = dist;
-            s.config.depth = depth;
+            HarnessSettings s = SweepSettings(80000u, dist, depth, 150, 400);
             s.config.autoBounds = depth != 3;
             s.config.bounds = Box{-20.0f, -20.0f, 20.0f, 20.0f};
             s.shifts = depth == 7;
-            s.targetProxies = 150;
-            s.operations = 400;
             s.validateEvery = 50;
             INFO("case: " << Describe(s));
             const Trace a = RunOnce(s);

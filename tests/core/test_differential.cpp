@@ -97,51 +97,28 @@ void CheckCoverage(const HarnessTotals& t)
 
 } // namespace
 
-TEST_CASE("Differential: uniform boxes", "[differential]")
+TEST_CASE("Differential: each box distribution (see Dist), over depths -1 to 10", "[differential]")
 {
-    CheckCoverage(RunDistribution(Dist::Uniform, 3, 1, false));
-}
-
-TEST_CASE("Differential: sizes log-uniform from 1e-3 to 1e3", "[differential]")
-{
-    CheckCoverage(RunDistribution(Dist::LogMixed, 3, 2, false));
-}
-
-TEST_CASE("Differential: tight Gaussian clusters", "[differential]")
-{
-    CheckCoverage(RunDistribution(Dist::Clustered, 3, 3, false));
-}
-
-TEST_CASE("Differential: most boxes outside fixed bounds", "[differential]")
-{
-    CheckCoverage(RunDistribution(Dist::Outside, 4, 4, false));
-}
-
-TEST_CASE("Differential: zero-area boxes (points and segments) on cell borders", "[differential]")
-{
-    CheckCoverage(RunDistribution(Dist::ZeroArea, 3, 5, false));
-}
-
-TEST_CASE("Differential: huge boxes among ordinary ones", "[differential]")
-{
-    CheckCoverage(RunDistribution(Dist::Huge, 3, 6, false));
-}
-
-TEST_CASE("Differential: every distribution mixed", "[differential]")
-{
-    CheckCoverage(RunDistribution(Dist::Mixed, 3, 7, false));
+    struct Case
+    {
+        Dist dist;
+        int reps;
+        uint32_t salt; // each case's own seeds
+    };
+    const Case c = GENERATE(Case{Dist::Uniform, 3, 1}, Case{Dist::LogMixed, 3, 2},
+                            Case{Dist::Clustered, 3, 3}, Case{Dist::Outside, 4, 4},
+                            Case{Dist::ZeroArea, 3, 5}, Case{Dist::Huge, 3, 6}, Case{Dist::Mixed, 3, 7});
+    INFO("distribution " << DistName(c.dist));
+    CheckCoverage(RunDistribution(c.dist, c.reps, c.salt, false));
 }
 
 TEST_CASE("Differential: a larger world of 2000 proxies", "[differential]")
 {
     for (int rep = 0; rep < 2; ++rep)
     {
-        HarnessSettings s;
-        s.seed = 8000u + uint32_t(rep);
-        s.dist = rep == 0 ? Dist::Mixed : Dist::Clustered;
+        HarnessSettings s =
+            RunSettings(8000u + uint32_t(rep), rep == 0 ? Dist::Mixed : Dist::Clustered, 2000, 3000);
         s.world = 200.0f;
-        s.targetProxies = 2000;
-        s.operations = 3000;
         s.validateEvery = 100;
         INFO("case: " << Describe(s));
         Harness h(s);
@@ -233,14 +210,11 @@ TEST_CASE("Differential: extreme coordinate scales (1e37 and 1e-30 worlds)", "[d
         {
             for (Dist dist : {Dist::Uniform, Dist::Mixed})
             {
-                HarnessSettings s;
-                s.seed = 9500u + uint32_t(depth + 1) * 10u + uint32_t(int(dist));
-                s.dist = dist;
+                HarnessSettings s =
+                    RunSettings(9500u + uint32_t(depth + 1) * 10u + uint32_t(int(dist)), dist, 100, 400);
                 s.world = world;
                 s.config.depth = depth;
                 s.config.autoBounds = depth != 5;
-                s.targetProxies = 100;
-                s.operations = 400;
                 INFO("case: " << Describe(s));
                 Harness h(s);
                 h.Run();

@@ -145,26 +145,20 @@ float Awkward(Rng& rng, float scale)
     }
 }
 
-struct Policies
-{
-    float extension;
-    float multiplier;
-};
-
-Policies RandomPolicy(Rng& rng)
+FatPolicy RandomPolicy(Rng& rng)
 {
     switch (UniformInt(rng, 0, 5))
     {
     case 0:
-        return Policies{0.0f, 4.0f};
+        return FatPolicy{0.0f, 4.0f};
     case 1:
-        return Policies{0.1f, 0.0f};
+        return FatPolicy{0.1f, 0.0f};
     case 2:
-        return Policies{-0.0f, 4.0f};
+        return FatPolicy{-0.0f, 4.0f};
     case 3:
-        return Policies{Uniform(rng, 0.0f, 2.0f), Uniform(rng, 0.0f, 8.0f)};
+        return FatPolicy{Uniform(rng, 0.0f, 2.0f), Uniform(rng, 0.0f, 8.0f)};
     default:
-        return Policies{0.1f, 4.0f}; // Box2D's b2_aabbExtension, b2_aabbMultiplier
+        return FatPolicy{0.1f, 4.0f}; // Box2D's b2_aabbExtension, b2_aabbMultiplier
     }
 }
 
@@ -175,19 +169,16 @@ TEST_CASE("FattenNew reproduces b2DynamicTree::CreateProxy bit for bit", "[fat]"
     Rng rng(515u);
     for (int i = 0; i < 200000; ++i)
     {
-        const Policies p = RandomPolicy(rng);
-        FatPolicy policy;
-        policy.extension = p.extension;
-        policy.multiplier = p.multiplier;
+        const FatPolicy policy = RandomPolicy(rng);
         const float s = LogUniform(rng, -2.0f, 4.0f);
         float a = Awkward(rng, s), b = Awkward(rng, s), c = Awkward(rng, s), d = Awkward(rng, s);
         const Box tight{std::min(a, b), std::min(c, d), std::max(a, b), std::max(c, d)};
         const Box mine = FattenNew(policy, tight);
-        const Box theirs = FromB2(Box2DCreate(p.extension, ToB2(tight)));
+        const Box theirs = FromB2(Box2DCreate(policy.extension, ToB2(tight)));
         if (!SameBox(mine, theirs))
         {
-            FAIL("i=" << i << " extension " << p.extension << " tight " << Str(tight) << ": " << Str(mine)
-                      << " vs " << Str(theirs));
+            FAIL("i=" << i << " extension " << policy.extension << " tight " << Str(tight) << ": "
+                      << Str(mine) << " vs " << Str(theirs));
         }
     }
     SUCCEED();
@@ -199,10 +190,7 @@ TEST_CASE("Refatten reproduces b2DynamicTree::MoveProxy bit for bit, including t
     int kept = 0, grown = 0, shrunk = 0, negativeZero = 0;
     for (int i = 0; i < 400000; ++i)
     {
-        const Policies p = RandomPolicy(rng);
-        FatPolicy policy;
-        policy.extension = p.extension;
-        policy.multiplier = p.multiplier;
+        const FatPolicy policy = RandomPolicy(rng);
 
         const float s = LogUniform(rng, -2.0f, 3.0f);
         float a = Awkward(rng, s), b = Awkward(rng, s), c = Awkward(rng, s), d = Awkward(rng, s);
@@ -229,7 +217,7 @@ TEST_CASE("Refatten reproduces b2DynamicTree::MoveProxy bit for bit, including t
         }
         case 2:
         {
-            const float g = p.extension * Uniform(rng, 0.0f, 12.0f);
+            const float g = policy.extension * Uniform(rng, 0.0f, 12.0f);
             stored =
                 Box{tight.minX - g * Uniform(rng, 0.0f, 1.0f), tight.minY - g * Uniform(rng, 0.0f, 1.0f),
                     tight.maxX + g * Uniform(rng, 0.0f, 1.0f), tight.maxY + g * Uniform(rng, 0.0f, 1.0f)};
@@ -254,13 +242,13 @@ TEST_CASE("Refatten reproduces b2DynamicTree::MoveProxy bit for bit, including t
         b2AABB theirs = ToB2(stored);
         const bool mineChanged = Refatten(policy, mine, tight, disp);
         const bool theirsChanged =
-            Box2DMove(p.extension, p.multiplier, theirs, ToB2(tight), b2Vec2{disp.x, disp.y});
+            Box2DMove(policy.extension, policy.multiplier, theirs, ToB2(tight), b2Vec2{disp.x, disp.y});
         if (mineChanged != theirsChanged || !SameBox(mine, FromB2(theirs)))
         {
-            FAIL("i=" << i << " extension " << p.extension << " multiplier " << p.multiplier << " tight "
-                      << Str(tight) << " displacement (" << disp.x << ", " << disp.y << ") stored "
-                      << Str(stored) << ": Refatten " << mineChanged << " " << Str(mine) << ", Box2D "
-                      << theirsChanged << " " << Str(FromB2(theirs)));
+            FAIL("i=" << i << " extension " << policy.extension << " multiplier " << policy.multiplier
+                      << " tight " << Str(tight) << " displacement (" << disp.x << ", " << disp.y
+                      << ") stored " << Str(stored) << ": Refatten " << mineChanged << " " << Str(mine)
+                      << ", Box2D " << theirsChanged << " " << Str(FromB2(theirs)));
         }
         if (!theirsChanged)
         {

@@ -78,10 +78,7 @@ struct InlineTasks
 // 800 proxies: several blocks of 64 buffered proxies per FindPairs.
 HarnessSettings TaskCase(uint32_t seed, int operations)
 {
-    HarnessSettings s;
-    s.seed = seed;
-    s.targetProxies = 800;
-    s.operations = operations;
+    HarnessSettings s = RunSettings(seed, Dist::Uniform, 800, operations);
     s.validateEvery = operations - 500;
     return s;
 }
@@ -168,11 +165,8 @@ TEST_CASE("Parallel FindPairs equals the serial loop at 1-4 threads under every 
 {
     for (Dist dist : {Dist::Uniform, Dist::LogMixed})
     {
-        HarnessSettings s;
-        s.seed = 91000u + uint32_t(int(dist));
-        s.dist = dist;
-        s.targetProxies = 800; // several blocks of 64 buffered proxies per FindPairs
-        s.operations = 2500;
+        // 800 proxies: several blocks of 64 buffered proxies per FindPairs
+        HarnessSettings s = RunSettings(91000u + uint32_t(int(dist)), dist, 800, 2500);
         s.validateEvery = 2000;
         INFO("case: " << Describe(s));
 
@@ -214,11 +208,8 @@ TEST_CASE("Queued moves give MoveProxy's pairs, in one order at 1-4 threads", "[
     // count.
     for (Dist dist : {Dist::Uniform, Dist::Clustered})
     {
-        HarnessSettings s;
-        s.seed = 93000u + uint32_t(int(dist));
-        s.dist = dist;
-        s.targetProxies = 800; // batches of up to 266 moves, searched in parallel (threshold 0)
-        s.operations = 2500;
+        // 800 proxies: batches of up to 266 moves, searched in parallel (threshold 0)
+        HarnessSettings s = RunSettings(93000u + uint32_t(int(dist)), dist, 800, 2500);
         s.validateEvery = 500;
         s.shifts = true;
         INFO("case: " << Describe(s));

@@ -123,12 +123,8 @@ TEST_CASE("Stats describe the pyramid and count the work", "[stats]")
 {
     for (int depth : {-1, 3})
     {
-        HarnessSettings s;
-        s.seed = 13000u + uint32_t(depth + 1);
-        s.dist = Dist::Mixed;
+        HarnessSettings s = RunSettings(13000u + uint32_t(depth + 1), Dist::Mixed, 300, 600);
         s.config.depth = depth;
-        s.targetProxies = 300;
-        s.operations = 600;
         Harness h(s);
         h.Record(true);
         h.Run();
@@ -192,13 +188,9 @@ TEST_CASE("Automatic depth: capped by maxDepth and by 2 leaf cells per proxy, fo
     for (const Case& k : {Case{2.0f, 12}, Case{2.0f, 3}, Case{0.0f, 12}, Case{0.0f, 4}, Case{-1.0f, 12},
                           Case{nan, 12}, Case{1e30f, 12}, Case{0.25f, 0}})
     {
-        HarnessSettings s;
-        s.seed = 14000u;
-        s.dist = Dist::Uniform;
+        HarnessSettings s = RunSettings(14000u, Dist::Uniform, 400, 700);
         s.config.cellToProxyRatio = k.ratio;
         s.config.maxDepth = k.maxDepth;
-        s.targetProxies = 400;
-        s.operations = 700;
         s.validateEvery = 50;
         INFO("ratio " << k.ratio << " maxDepth " << k.maxDepth);
         Harness h(s);
@@ -231,11 +223,7 @@ TEST_CASE("Automatic depth: capped by maxDepth and by 2 leaf cells per proxy, fo
 
 TEST_CASE("TestOverlap compares the stored fat boxes", "[stats]")
 {
-    HarnessSettings s;
-    s.seed = 15000u;
-    s.dist = Dist::Clustered;
-    s.targetProxies = 100;
-    s.operations = 300;
+    HarnessSettings s = RunSettings(15000u, Dist::Clustered, 100, 300);
     Harness h(s);
     h.Run();
     int overlapping = 0;

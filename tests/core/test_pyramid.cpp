@@ -102,6 +102,20 @@ Region RandomRegion(Rng& rng, int depth)
     return r;
 }
 
+/// Runs body(pyramid, region, trial) for trial 0 .. trials - 1, each on a fresh pyramid over a random region of
+/// depth trial % depths.
+template <typename Body>
+void ForRandomPyramids(Rng& rng, int trials, int depths, Body body)
+{
+    for (int trial = 0; trial < trials; ++trial)
+    {
+        const Region r = RandomRegion(rng, trial % depths);
+        Pyramid pyramid;
+        pyramid.Reset(r.originX, r.originY, r.side, r.depth);
+        body(pyramid, r, trial);
+    }
+}
+
 /// A coordinate on a cell border of a random level (computed in float, so it may sit just beside the border).
 float BorderCoord(Rng& rng, float origin, float side, int depth)
 {
@@ -199,12 +213,8 @@ TEST_CASE("Pyramid::Place picks the deepest level where the corners' cells are e
     Rng rng(20240601u);
     int levelsSeen[11] = {};
     int checked = 0;
-    for (int trial = 0; trial < 120; ++trial)
-    {
-        const int depth = trial % 11; // 0..10
-        const Region r = RandomRegion(rng, depth);
-        Pyramid pyramid;
-        pyramid.Reset(r.originX, r.originY, r.side, depth);
+    ForRandomPyramids(rng, 120, 11, [&](Pyramid& pyramid, const Region& r, int trial) {
+        const int depth = r.depth; // 0..10
         const RefCoords rc(r.originX, r.originY, r.side, depth);
         REQUIRE(pyramid.Depth() == depth);
         for (int i = 0; i < 400; ++i)
@@ -251,7 +261,7 @@ TEST_CASE("Pyramid::Place picks the deepest level where the corners' cells are e
             levelsSeen[level] += 1;
             ++checked;
         }
-    }
+    });
     REQUIRE(checked == 120 * 400);
     // the boxes exercised every level
     for (int level = 0; level <= 10; ++level)
@@ -279,12 +289,8 @@ TEST_CASE("Pyramid::Place handles NaN coordinates (cell 0) and inverted boxes wi
 TEST_CASE("Pyramid::Visit visits every overlapping entry exactly once, and stops when told", "[pyramid]")
 {
     Rng rng(777u);
-    for (int trial = 0; trial < 60; ++trial)
-    {
-        const int depth = trial % 9;
-        const Region r = RandomRegion(rng, depth);
-        Pyramid pyramid;
-        pyramid.Reset(r.originX, r.originY, r.side, depth);
+    ForRandomPyramids(rng, 60, 9, [&](Pyramid& pyramid, const Region& r, int trial) {
+        const int depth = r.depth;
         std::vector<Box> boxes;
         const int n = UniformInt(rng, 1, 300);
         for (int id = 0; id < n; ++id)
@@ -330,18 +336,14 @@ TEST_CASE("Pyramid::Visit visits every overlapping entry exactly once, and stops
                 REQUIRE(calls == 1);
             }
         }
-    }
+    });
 }
 
 TEST_CASE("Pyramid stays valid through random insert, update and remove sequences", "[pyramid]")
 {
     Rng rng(4242u);
-    for (int trial = 0; trial < 40; ++trial)
-    {
-        const int depth = trial % 9;
-        const Region r = RandomRegion(rng, depth);
-        Pyramid pyramid;
-        pyramid.Reset(r.originX, r.originY, r.side, depth);
+    ForRandomPyramids(rng, 40, 9, [&](Pyramid& pyramid, const Region& r, int trial) {
+        const int depth = r.depth;
         std::map<ProxyId, Box> stored;
         ProxyId nextId = 0;
         std::vector<ProxyId> freeIds;
@@ -430,5 +432,5 @@ TEST_CASE("Pyramid stays valid through random insert, update and remove sequence
             REQUIRE(pyramid.LevelCount(level) == 0);
         }
         REQUIRE(pyramid.OutsideCount() == 0);
-    }
+    });
 }

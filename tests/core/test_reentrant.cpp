@@ -56,6 +56,17 @@ struct World
         return SmallBoxAt(Uniform(rng, 0.0f, world), Uniform(rng, 0.0f, world), Uniform(rng, 0.05f, 1.0f));
     }
 
+    // Creates `count` random boxes over [0, world]^2, then finds their pairs, so that nothing is buffered.
+    void Populate(int count, float world)
+    {
+        for (int i = 0; i < count; ++i)
+        {
+            Create(RandomBox(world));
+        }
+        std::vector<Pair> pairs;
+        qt.FindPairs(pairs);
+    }
+
     ProxyId AnyLive() { return liveList[size_t(UniformInt(rng, 0, int(liveList.size()) - 1))]; }
 
     Rng rng;
@@ -130,7 +141,8 @@ struct CallRecord
     }
 };
 
-bool QueryCallback(void* context, ProxyId id)
+// What both callbacks do with a report: record it and, half the time, call back into the broadphase.
+void OnReport(void* context, ProxyId id)
 {
     CallRecord& call = *static_cast<CallRecord*>(context);
     call.Record(id);
@@ -140,19 +152,17 @@ bool QueryCallback(void* context, ProxyId id)
     {
         call.Act();
     }
+}
+
+bool QueryCallback(void* context, ProxyId id)
+{
+    OnReport(context, id);
     return true;
 }
 
 float RayCallback(void* context, const RayInput&, ProxyId id)
 {
-    CallRecord& call = *static_cast<CallRecord*>(context);
-    call.Record(id);
-    // Up to 40 actions a call: enough to change the world under the walk many times, without letting the
-    // world grow with the number of reports.
-    if (call.actions < 40 && Chance(call.world->rng, 0.5))
-    {
-        call.Act();
-    }
+    OnReport(context, id);
     return -1.0f; // all hits, no clipping
 }
 
@@ -178,42 +188,55 @@ void CheckNoRepeats(const CallRecord& call)
     REQUIRE(std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end());
 }
 
+// The live proxies whose fat boxes pass `test`, in id order.
+template <typename Test>
+std::vector<ProxyId> LiveWhere(const World& w, Test test)
+{
+    std::vector<ProxyId> ids;
+    for (ProxyId id : w.live)
+    {
+        if (test(w.qt.GetFatBox(id)))
+        {
+            ids.push_back(id);
+        }
+    }
+    return ids;
+}
+
+// One re-entrant call, made by run(call) with `call` as the callbacks' context, creating near `near`: checks
+// what it reported against `before` (the live proxies it must report unless touched); returns its actions.
+template <typename Run>
+int CheckedCall(World& w, float size, const Box& near, const std::vector<ProxyId>& before, Run run)
+{
+    CallRecord call;
+    call.world = &w;
+    call.worldSize = size;
+    call.near = near;
+    run(call);
+    REQUIRE(call.deadReported == 0);
+    CheckNoRepeats(call);
+    CheckUntouchedReported(call, before);
+    return call.actions;
+}
+
 } // namespace
 
 TEST_CASE("Query callbacks may create, destroy and move proxies", "[query][reentrant]")
 {
     const float size = 100.0f;
     World w(4242u);
-    for (int i = 0; i < 300; ++i)
-    {
-        w.Create(w.RandomBox(size));
-    }
+    w.Populate(300, size);
     std::vector<Pair> pairs;
-    w.qt.FindPairs(pairs);
     int actions = 0;
     for (int round = 0; round < 400; ++round)
     {
         const float cx = Uniform(w.rng, 0.0f, size), cy = Uniform(w.rng, 0.0f, size);
         const float half = Uniform(w.rng, 2.0f, 30.0f);
         const Box q{cx - half, cy - half, cx + half, cy + half};
-        std::vector<ProxyId> before;
-        for (ProxyId id : w.live)
-        {
-            if (Overlaps(w.qt.GetFatBox(id), q))
-            {
-                before.push_back(id);
-            }
-        }
-        CallRecord call;
-        call.world = &w;
-        call.worldSize = size;
-        call.near = q;
+        const std::vector<ProxyId> before = LiveWhere(w, [&](const Box& fat) { return Overlaps(fat, q); });
         INFO("round " << round);
-        w.qt.Query(q, &QueryCallback, &call);
-        REQUIRE(call.deadReported == 0);
-        CheckNoRepeats(call);
-        CheckUntouchedReported(call, before);
-        actions += call.actions;
+        actions +=
+            CheckedCall(w, size, q, before, [&](CallRecord& call) { w.qt.Query(q, &QueryCallback, &call); });
         if (round % 7 == 0)
         {
             w.qt.FindPairs(pairs);
@@ -229,12 +252,8 @@ TEST_CASE("RayCast callbacks may create, destroy and move proxies", "[raycast][r
     const float size = 200.0f;
     Config config;
     World w(777u, config);
-    for (int i = 0; i < 2000; ++i)
-    {
-        w.Create(w.RandomBox(size));
-    }
+    w.Populate(2000, size);
     std::vector<Pair> pairs;
-    w.qt.FindPairs(pairs);
     int actions = 0;
     for (int round = 0; round < 300; ++round)
     {
@@ -243,24 +262,11 @@ TEST_CASE("RayCast callbacks may create, destroy and move proxies", "[raycast][r
         in.p2 = Vec2{Uniform(w.rng, -10.0f, size + 10.0f), Uniform(w.rng, -10.0f, size + 10.0f)};
         in.maxFraction = 1.0f;
         const SegmentTest segment(in);
-        std::vector<ProxyId> before;
-        for (ProxyId id : w.live)
-        {
-            if (segment.MayCross(w.qt.GetFatBox(id)))
-            {
-                before.push_back(id);
-            }
-        }
-        CallRecord call;
-        call.world = &w;
-        call.worldSize = size;
-        call.near = segment.Bounds();
+        const std::vector<ProxyId> before =
+            LiveWhere(w, [&](const Box& fat) { return segment.MayCross(fat); });
         INFO("round " << round);
-        w.qt.RayCast(in, &RayCallback, &call);
-        REQUIRE(call.deadReported == 0);
-        CheckNoRepeats(call);
-        CheckUntouchedReported(call, before);
-        actions += call.actions;
+        actions += CheckedCall(w, size, segment.Bounds(), before,
+                               [&](CallRecord& call) { w.qt.RayCast(in, &RayCallback, &call); });
         if (round % 5 == 0)
         {
             w.qt.FindPairs(pairs);
@@ -384,23 +390,11 @@ TEST_CASE("A callback that rebuilds the pyramid mid-ray: the walk starts again a
           "[raycast][reentrant]")
 {
     World w(99u);
-    for (int i = 0; i < 500; ++i)
-    {
-        w.Create(w.RandomBox(100.0f));
-    }
-    std::vector<Pair> pairs;
-    w.qt.FindPairs(pairs);
+    w.Populate(500, 100.0f);
     const int64_t rebuildsBefore = w.qt.GetStats().rebuilds;
     RayInput in{{0.0f, 0.0f}, {100.0f, 100.0f}, 1.0f};
     const SegmentTest segment(in);
-    std::vector<ProxyId> before;
-    for (ProxyId id : w.live)
-    {
-        if (segment.MayCross(w.qt.GetFatBox(id)))
-        {
-            before.push_back(id);
-        }
-    }
+    const std::vector<ProxyId> before = LiveWhere(w, [&](const Box& fat) { return segment.MayCross(fat); });
     REQUIRE(before.size() > 10);
     struct Rebuilder
     {

@@ -19,15 +19,13 @@ TEST_CASE("ShiftOrigin inside random call sequences", "[shift]")
         {
             for (int rep = 0; rep < 2; ++rep)
             {
-                HarnessSettings s;
-                s.seed = 70000u + uint32_t(int(dist)) * 100u + uint32_t(depth + 1) * 10u + uint32_t(rep);
-                s.dist = dist;
+                HarnessSettings s = RunSettings(70000u + uint32_t(int(dist)) * 100u +
+                                                    uint32_t(depth + 1) * 10u + uint32_t(rep),
+                                                dist, 120, 400);
                 s.config.depth = depth;
                 s.config.autoBounds = rep == 0;
                 s.config.bounds = Box{-25.0f, -25.0f, 25.0f, 25.0f};
                 s.shifts = true;
-                s.operations = 400;
-                s.targetProxies = 120;
                 s.validateEvery = depth >= 8 ? 0 : 8;
                 INFO("case: " << Describe(s));
                 Harness h(s);
@@ -55,12 +53,9 @@ TEST_CASE("ShiftOrigin keeps the pyramid's region on the world it covers", "[shi
     c.depth = 5;
     c.autoBounds = false;
     c.bounds = Box{-16.0f, -16.0f, 16.0f, 16.0f};
-    HarnessSettings s;
-    s.seed = 71000u;
+    HarnessSettings s = RunSettings(71000u, Dist::Uniform, 100, 200);
     s.config = c;
     s.world = 12.0f;
-    s.targetProxies = 100;
-    s.operations = 200;
     Harness h(s);
     h.Run();
     const int32_t outsideBefore = h.Quadtree().GetStats().outsideCount;

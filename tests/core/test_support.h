@@ -233,24 +233,11 @@ enum class Dist
 
 inline const char* DistName(Dist d)
 {
-    switch (d)
-    {
-    case Dist::Uniform:
-        return "uniform";
-    case Dist::LogMixed:
-        return "log-mixed";
-    case Dist::Clustered:
-        return "clustered";
-    case Dist::Outside:
-        return "outside";
-    case Dist::ZeroArea:
-        return "zero-area";
-    case Dist::Huge:
-        return "huge";
-    case Dist::Mixed:
-        return "mixed";
-    }
-    return "?";
+    // In Dist's order.
+    static const char* const kNames[] = {"uniform",   "log-mixed", "clustered", "outside",
+                                         "zero-area", "huge",      "mixed"};
+    const size_t i = size_t(d);
+    return i < sizeof(kNames) / sizeof(kNames[0]) ? kNames[i] : "?";
 }
 
 constexpr Dist kAllDists[] = {Dist::Uniform,  Dist::LogMixed, Dist::Clustered, Dist::Outside,

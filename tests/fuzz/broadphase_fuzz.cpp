@@ -254,6 +254,18 @@ private:
         g_errors = 0;
     }
 
+    /// Makes `call` (DestroyProxy or TouchProxy of one id) on the quadtree, which must report the id once unless
+    /// it is `live`, then on the brute force, whose reports are not counted.
+    template <typename Call>
+    void OnBoth(bool live, const char* what, Call call)
+    {
+        g_errors = 0;
+        call(m_qt);
+        Expect(live ? 0 : 1, what);
+        call(m_bf);
+        g_errors = 0;
+    }
+
     void Create(Reader& in)
     {
         if (int(m_live.size()) >= kMaxLive)
@@ -336,11 +348,7 @@ private:
     {
         const ProxyId id = ReadId(in);
         const bool live = IsLive(id);
-        g_errors = 0;
-        m_qt.DestroyProxy(id);
-        Expect(live ? 0 : 1, "DestroyProxy: error reports");
-        m_bf.DestroyProxy(id);
-        g_errors = 0;
+        OnBoth(live, "DestroyProxy: error reports", [id](auto& bp) { bp.DestroyProxy(id); });
         if (live)
         {
             // swap-remove: O(1)
@@ -359,12 +367,7 @@ private:
     void Touch(Reader& in)
     {
         const ProxyId id = ReadId(in);
-        const bool live = IsLive(id);
-        g_errors = 0;
-        m_qt.TouchProxy(id);
-        Expect(live ? 0 : 1, "TouchProxy: error reports");
-        m_bf.TouchProxy(id);
-        g_errors = 0;
+        OnBoth(IsLive(id), "TouchProxy: error reports", [id](auto& bp) { bp.TouchProxy(id); });
     }
 
     /// Drops the pairs of proxies whose last box was bad; the order is kept.
@@ -423,42 +426,46 @@ private:
         return b;
     }
 
-    void Query(Reader& in)
+    /// One Query or RayCast, call(broadphase, collector), on both broadphases: leaves the candidates that are
+    /// sane proxies in a and r, and checks that the quadtree, stopped after its first candidate, calls back
+    /// once, and only when it has a candidate (else Diverge with `stopped`).
+    template <typename Call>
+    void CollectBoth(const char* stopped, Collector& a, Collector& r, Call call)
     {
-        const Box box = ReadQueryBox(in);
-        m_s.quadtreeIds.clear();
-        m_s.referenceIds.clear();
-        Collector a{&m_s.quadtreeIds}, r{&m_s.referenceIds};
-        m_qt.Query(box, &Collector::Query, &a);
-        m_bf.Query(box, &Collector::Query, &r);
+        a.ids->clear();
+        r.ids->clear();
+        call(m_qt, a);
+        call(m_bf, r);
         const bool any = !a.ids->empty();
         SaneOnly(*a.ids);
         SaneOnly(*r.ids);
+        m_s.firstIds.clear();
+        Collector first{&m_s.firstIds, 1};
+        call(m_qt, first);
+        if (first.ids->size() != (any ? 1u : 0u))
+        {
+            Diverge(stopped, long(first.ids->size()), long(any), m_op);
+        }
+    }
+
+    void Query(Reader& in)
+    {
+        const Box box = ReadQueryBox(in);
+        Collector a{&m_s.quadtreeIds}, r{&m_s.referenceIds};
+        CollectBoth("Query: stop after the first candidate", a, r,
+                    [&](auto& bp, Collector& c) { bp.Query(box, &Collector::Query, &c); });
         if (*a.ids != *r.ids)
         {
             Diverge("Query: candidate sets (sane proxies)", long(a.ids->size()), long(r.ids->size()), m_op);
-        }
-        // stopped after the first candidate: one call, and only when there is a candidate
-        m_s.firstIds.clear();
-        Collector first{&m_s.firstIds, 1};
-        m_qt.Query(box, &Collector::Query, &first);
-        if (first.ids->size() != (any ? 1u : 0u))
-        {
-            Diverge("Query: stop after the first candidate", long(first.ids->size()), long(any), m_op);
         }
     }
 
     void RayCast(Reader& in)
     {
         const RayInput ray = fuzz::ReadRay(in);
-        m_s.quadtreeIds.clear();
-        m_s.referenceIds.clear();
         Collector a{&m_s.quadtreeIds}, r{&m_s.referenceIds};
-        m_qt.RayCast(ray, &Collector::Ray, &a);
-        m_bf.RayCast(ray, &Collector::Ray, &r);
-        const bool any = !a.ids->empty();
-        SaneOnly(*a.ids);
-        SaneOnly(*r.ids);
+        CollectBoth("RayCast: stop after the first candidate", a, r,
+                    [&](auto& bp, Collector& c) { bp.RayCast(ray, &Collector::Ray, &c); });
         const bool exact = Bounded();
         if (exact ? *a.ids != *r.ids
                   : !(std::includes(r.ids->begin(), r.ids->end(), a.ids->begin(), a.ids->end()) &&
@@ -468,13 +475,6 @@ private:
                         ? "RayCast: candidate sets (sane proxies)"
                         : "RayCast beyond the exact range: a crossed proxy missed or a rejected one reported",
                     long(a.ids->size()), long(r.ids->size()), m_op);
-        }
-        m_s.firstIds.clear();
-        Collector first{&m_s.firstIds, 1};
-        m_qt.RayCast(ray, &Collector::Ray, &first);
-        if (first.ids->size() != (any ? 1u : 0u))
-        {
-            Diverge("RayCast: stop after the first candidate", long(first.ids->size()), long(any), m_op);
         }
         // Closest hit: the clipped walk must find the same nearest entry as the reference's full scan. Ties
         // (two tight boxes entered at the same fraction) may resolve to either proxy: the one reported must

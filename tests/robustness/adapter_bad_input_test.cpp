@@ -16,6 +16,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "../core/test_support.h"
 #include "box2d/box2d.h"
 #include "quadphase/box2d.h"
 #include "quadphase/error.h"
@@ -23,39 +24,7 @@
 namespace
 {
 
-/// Records every report of the error hook while it lives.
-class ErrorLog
-{
-public:
-    ErrorLog() { m_previous = quadphase::SetErrorHandler(&ErrorLog::Handle, this); }
-    ~ErrorLog() { quadphase::SetErrorHandler(m_previous); }
-    ErrorLog(const ErrorLog&) = delete;
-    ErrorLog& operator=(const ErrorLog&) = delete;
-
-    int Count(quadphase::ErrorCode code) const
-    {
-        return int(std::count(m_codes.begin(), m_codes.end(), code));
-    }
-    int Total() const { return int(m_codes.size()); }
-    const std::string& Last() const { return m_last; }
-    void Clear()
-    {
-        m_codes.clear();
-        m_last.clear();
-    }
-
-private:
-    static void Handle(quadphase::ErrorCode code, const char* message, void* context)
-    {
-        auto* self = static_cast<ErrorLog*>(context);
-        self->m_codes.push_back(code);
-        self->m_last = message;
-    }
-
-    quadphase::ErrorHandler m_previous = nullptr;
-    std::vector<quadphase::ErrorCode> m_codes;
-    std::string m_last;
-};
+using qptest::ErrorCounter;
 
 /// A world with two piles of boxes, and one extra body ("victim") resting apart from them.
 struct Piles
@@ -145,7 +114,7 @@ TEST_CASE("a body teleported to NaN or infinity: reported, and the other bodies 
     for (float bad : {kNaN, kInf, -kInf})
     {
         INFO("bad coordinate " << bad);
-        ErrorLog errors;
+        ErrorCounter errors;
         // Twin worlds: in `broken` the victim is teleported to a non-finite position, in `twin` to a sane
         // place far from everything. The other bodies must move bit for bit the same in both.
         Piles broken, twin;
@@ -153,10 +122,10 @@ TEST_CASE("a body teleported to NaN or infinity: reported, and the other bodies 
         {
             if (step == 30)
             {
-                errors.Clear();
+                errors.Reset();
                 broken.victim->SetTransform(b2Vec2(bad, 0.5f), 0.0f);
                 REQUIRE(errors.Count(quadphase::ErrorCode::NonFiniteBox) == 1);
-                REQUIRE(errors.Last().find("MoveProxy") != std::string::npos);
+                REQUIRE(errors.LastMessage().find("MoveProxy") != std::string::npos);
                 twin.victim->SetTransform(b2Vec2(30.0f, 0.5f), 0.0f);
                 REQUIRE(errors.Total() == 1); // the sane teleport reports nothing
             }
@@ -187,7 +156,7 @@ TEST_CASE("a body teleported to NaN or infinity: reported, and the other bodies 
         CHECK(problem.empty());
 
         // The victim comes back to a sane place: it pairs again.
-        errors.Clear();
+        errors.Reset();
         broken.victim->SetTransform(b2Vec2(-8.0f, 0.5f), 0.0f);
         broken.victim->SetLinearVelocity(b2Vec2(0.0f, 0.0f));
         broken.world->Step(1.0f / 60.0f, 8, 3);
@@ -198,7 +167,7 @@ TEST_CASE("a body teleported to NaN or infinity: reported, and the other bodies 
 
 TEST_CASE("b2BroadPhase: unknown and destroyed ids are reported, validation stays exact", "[bad_input]")
 {
-    ErrorLog errors;
+    ErrorCounter errors;
     b2BroadPhase bp;
     quadphase::SetValidation(bp, true);
     std::vector<int32> ids;
@@ -249,7 +218,7 @@ TEST_CASE("b2BroadPhase: unknown and destroyed ids are reported, validation stay
 TEST_CASE("b2BroadPhase: zero-size AABBs pair exactly and inverted ones are reported and pair with nothing",
           "[bad_input]")
 {
-    ErrorLog errors;
+    ErrorCounter errors;
     b2BroadPhase bp;
     quadphase::SetValidation(bp, true);
     // zero-size: points, and zero-width and zero-height segments, some exactly on others' borders
@@ -287,10 +256,10 @@ TEST_CASE("b2BroadPhase: zero-size AABBs pair exactly and inverted ones are repo
     quadphase::SetValidation(bp, false);
 
     // inverted: reported; it pairs with nothing, and the others keep their pairs
-    errors.Clear();
+    errors.Reset();
     const int32 inv = bp.CreateProxy(Aabb(2.0f, 2.0f, -2.0f, -2.0f), reinterpret_cast<void*>(intptr_t(99)));
     CHECK(errors.Count(quadphase::ErrorCode::InvertedBox) == 1);
-    CHECK(errors.Last().find("CreateProxy") != std::string::npos);
+    CHECK(errors.LastMessage().find("CreateProxy") != std::string::npos);
     for (int32 id = 0; id < 7; ++id)
     {
         bp.TouchProxy(id);

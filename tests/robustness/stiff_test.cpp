@@ -3,7 +3,6 @@
 // quadphase build must give exactly the stock tree's pairs (validation mode, 0 mismatches). Each prints a
 // one-line summary, the figures of docs/robustness.md.
 #include <cmath>
-#include <cstdio>
 #include <memory>
 #include <vector>
 
@@ -23,12 +22,6 @@ std::unique_ptr<b2World> WorldWithGround(b2Vec2 gravity)
     return world;
 }
 
-void Print(const char* name, const Observed& seen, const char* extra)
-{
-    std::printf("[%s] %s: %d steps, finite %d, max speed %.3f m/s, %s\n", VariantName(), name, seen.steps,
-                int(seen.finite), double(seen.maxSpeed), extra);
-}
-
 } // namespace
 
 TEST_CASE("stiff: a stack with 1:1000 mass ratios does not explode", "[stiff]")
@@ -46,26 +39,14 @@ TEST_CASE("stiff: a stack with 1:1000 mass ratios does not explode", "[stiff]")
         stack.push_back(
             AddBox(*world, b2_dynamicBody, b2Vec2(0.0f, 0.5f + 1.0f * float(i)), 0.5f, 0.5f, density));
     }
-    float lowest = 1e9f;
-    const Observed seen = StepWorld(*world, 600, [&](int) {
-        for (b2Body* b : stack)
-        {
-            lowest = std::fmin(lowest, b->GetPosition().y);
-        }
-    });
+    const Observed seen = StepWorld(*world, 600);
 
-    float spread = 0.0f;
-    for (b2Body* b : stack)
-    {
-        spread = std::fmax(spread, std::fabs(b->GetPosition().x));
-    }
-    char extra[160];
-    std::snprintf(extra, sizeof(extra), "lowest centre ever %.3f, largest final |x| %.3f, top y %.3f",
-                  double(lowest), double(spread), double(stack.back()->GetPosition().y));
-    Print("mass ratio 1:1000 stack of 8", seen, extra);
+    const float spread = LargestAbsX(stack);
+    Print("mass ratio 1:1000 stack of 8", seen, "lowest centre ever %.3f, largest final |x| %.3f, top y %.3f",
+          double(seen.lowestY), double(spread), double(stack.back()->GetPosition().y));
     REQUIRE(seen.finite);
     CHECK(seen.maxSpeed < 15.0f); // a free fall from the top of the stack reaches 12.5 m/s
-    CHECK(lowest > 0.4f);         // nothing sank into the ground (a box's centre rests at 0.5)
+    CHECK(seen.lowestY > 0.4f);   // nothing sank into the ground (a box's centre rests at 0.5)
     CHECK(AllDynamicInside(*world, b2AABB{b2Vec2(-12.0f, 0.0f), b2Vec2(12.0f, 9.0f)}));
     exact.Require(600);
 }
@@ -82,15 +63,9 @@ TEST_CASE("stiff: a tower of 40 bricks stands", "[stiff]")
     }
     const Observed seen = StepWorld(*world, 600);
 
-    float maxDrift = 0.0f;
-    for (b2Body* b : tower)
-    {
-        maxDrift = std::fmax(maxDrift, std::fabs(b->GetPosition().x));
-    }
-    char extra[160];
-    std::snprintf(extra, sizeof(extra), "top y %.3f (start 19.75), largest |x| %.3f",
-                  double(tower.back()->GetPosition().y), double(maxDrift));
-    Print("tower of 40 bricks (2 x 0.5 m)", seen, extra);
+    const float maxDrift = LargestAbsX(tower);
+    Print("tower of 40 bricks (2 x 0.5 m)", seen, "top y %.3f (start 19.75), largest |x| %.3f",
+          double(tower.back()->GetPosition().y), double(maxDrift));
     REQUIRE(seen.finite);
     CHECK(seen.maxSpeed < 5.0f);
     CHECK(tower.back()->GetPosition().y > 19.0f); // still standing (it settles by the boxes' skins)
@@ -115,10 +90,8 @@ TEST_CASE("stiff: a heavy plank on light boxes", "[stiff]")
     b2Body* plank = AddBox(*world, b2_dynamicBody, b2Vec2(0.0f, 1.6f), 3.0f, 0.1f, 1000.0f);
     const Observed seen = StepWorld(*world, 600);
 
-    char extra[160];
-    std::snprintf(extra, sizeof(extra), "plank y %.3f (start 1.6), plank angle %.4f",
-                  double(plank->GetPosition().y), double(plank->GetAngle()));
-    Print("heavy plank on light boxes", seen, extra);
+    Print("heavy plank on light boxes", seen, "plank y %.3f (start 1.6), plank angle %.4f",
+          double(plank->GetPosition().y), double(plank->GetAngle()));
     REQUIRE(seen.finite);
     CHECK(seen.maxSpeed < 10.0f);
     // stock squeezes the light boxes out from under the plank, which then rests on the ground (y = 0.1 +
@@ -142,24 +115,13 @@ TEST_CASE("stiff: a pyramid under 10x gravity", "[stiff]")
             AddBox(*world, b2_dynamicBody, b2Vec2(x * 1.05f, 0.5f + float(row)), 0.5f, 0.5f, 1.0f);
         }
     }
-    float lowest = 1e9f;
-    const Observed seen = StepWorld(*world, 600, [&](int) {
-        for (const b2Body* b = world->GetBodyList(); b != nullptr; b = b->GetNext())
-        {
-            if (b->GetType() == b2_dynamicBody)
-            {
-                lowest = std::fmin(lowest, b->GetPosition().y);
-            }
-        }
-    });
+    const Observed seen = StepWorld(*world, 600);
 
-    char extra[160];
-    std::snprintf(extra, sizeof(extra), "lowest box centre ever %.3f, touching contacts %d", double(lowest),
-                  TouchingContacts(*world));
-    Print("pyramid of 78 under 10x gravity", seen, extra);
+    Print("pyramid of 78 under 10x gravity", seen, "lowest box centre ever %.3f, touching contacts %d",
+          double(seen.lowestY), TouchingContacts(*world));
     REQUIRE(seen.finite);
     CHECK(seen.maxSpeed < 20.0f);
-    CHECK(lowest > 0.3f); // no box through the ground
+    CHECK(seen.lowestY > 0.3f); // no box through the ground
     CHECK(AllDynamicInside(*world, b2AABB{b2Vec2(-10.0f, 0.0f), b2Vec2(10.0f, 13.0f)}));
     exact.Require(600);
 }
@@ -215,9 +177,7 @@ TEST_CASE("stiff: bullets at 300 m/s do not pass thin walls (continuous collisio
         }
     });
 
-    char extra[160];
-    std::snprintf(extra, sizeof(extra), "bullet-steps beyond their wall %d", passed);
-    Print("24 bullets at 300 m/s vs 5 cm walls", seen, extra);
+    Print("24 bullets at 300 m/s vs 5 cm walls", seen, "bullet-steps beyond their wall %d", passed);
     REQUIRE(seen.finite);
     CHECK(passed == 0);
     exact.Require(120);

@@ -1,9 +1,13 @@
 #include "world_check.h"
 
 #include <cmath>
+#include <cstdarg>
+#include <cstdio>
 #include <string>
 
 #include <catch2/catch.hpp>
+
+#include "quadphase_scenes/scenes.h"
 
 #if defined(QUADPHASE_VARIANT_QUADPHASE)
 #include "quadphase/box2d.h"
@@ -71,43 +75,43 @@ Observed StepWorld(b2World& world, int steps, const std::function<void(int)>& af
             seen.finite = seen.finite && Finite(*b);
             const float speed = b->GetLinearVelocity().Length();
             seen.maxSpeed = speed > seen.maxSpeed ? speed : seen.maxSpeed;
+            seen.lowestY = std::fmin(seen.lowestY, b->GetPosition().y);
         }
         seen.steps += 1;
     }
     return seen;
 }
 
+void Print(const char* name, const Observed& seen, const char* format, ...)
+{
+    char extra[256];
+    va_list args;
+    va_start(args, format);
+    std::vsnprintf(extra, sizeof(extra), format, args);
+    va_end(args);
+    std::printf("[%s] %s: %d steps, finite %d, max speed %.3f m/s, %s\n", VariantName(), name, seen.steps,
+                int(seen.finite), double(seen.maxSpeed), extra);
+}
+
 b2Body* AddBox(b2World& world, b2BodyType type, b2Vec2 position, float hx, float hy, float density,
                float friction)
 {
-    b2BodyDef def;
-    def.type = type;
-    def.position = position;
-    b2Body* body = world.CreateBody(&def);
     b2PolygonShape shape;
     shape.SetAsBox(hx, hy);
-    b2FixtureDef fixture;
-    fixture.shape = &shape;
-    fixture.density = density;
-    fixture.friction = friction;
-    body->CreateFixture(&fixture);
-    return body;
+    b2FixtureDef material;
+    material.density = density;
+    material.friction = friction;
+    return quadphase::scenes::AddBody(world, type, position, shape, material);
 }
 
 b2Body* AddCircle(b2World& world, b2BodyType type, b2Vec2 position, float radius, float density)
 {
-    b2BodyDef def;
-    def.type = type;
-    def.position = position;
-    b2Body* body = world.CreateBody(&def);
     b2CircleShape shape;
     shape.m_radius = radius;
-    b2FixtureDef fixture;
-    fixture.shape = &shape;
-    fixture.density = density;
-    fixture.friction = 0.6f;
-    body->CreateFixture(&fixture);
-    return body;
+    b2FixtureDef material;
+    material.density = density;
+    material.friction = 0.6f;
+    return quadphase::scenes::AddBody(world, type, position, shape, material);
 }
 
 bool AllDynamicInside(const b2World& world, const b2AABB& region)
@@ -126,6 +130,16 @@ bool AllDynamicInside(const b2World& world, const b2AABB& region)
         }
     }
     return true;
+}
+
+float LargestAbsX(const std::vector<b2Body*>& bodies)
+{
+    float largest = 0.0f;
+    for (const b2Body* b : bodies)
+    {
+        largest = std::fmax(largest, std::fabs(b->GetPosition().x));
+    }
+    return largest;
 }
 
 int TouchingContacts(const b2World& world)

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <functional>
+#include <vector>
 
 #include "box2d/box2d.h"
 
@@ -19,12 +20,17 @@ struct Observed
 {
     bool finite = true;    ///< positions, angles and velocities stayed finite
     float maxSpeed = 0.0f; ///< largest linear speed of a dynamic body after any step (m/s)
+    float lowestY = 1e9f;  ///< lowest centre (y) of a dynamic body after any step
     int steps = 0;
 };
 
 /// Steps `world` `steps` times at 1/60 s with 8 velocity and 3 position iterations and observes every dynamic
 /// body after each step. `after(step)`, when given, runs after each step (before the observation).
 Observed StepWorld(b2World& world, int steps, const std::function<void(int)>& after = {});
+
+/// Prints one line on a run: the build, `name`, what `seen` observed, then `format` (printf's) with its arguments.
+void Print(const char* name, const Observed& seen, const char* format, ...)
+    __attribute__((format(printf, 3, 4)));
 
 /// Adds a body with one box fixture (half extents hx, hy). density 0 for static bodies.
 b2Body* AddBox(b2World& world, b2BodyType type, b2Vec2 position, float hx, float hy, float density,
@@ -35,6 +41,9 @@ b2Body* AddCircle(b2World& world, b2BodyType type, b2Vec2 position, float radius
 
 /// True when every dynamic body's origin lies inside `region` (borders included).
 bool AllDynamicInside(const b2World& world, const b2AABB& region);
+
+/// The largest |x| of the bodies' positions (0 for none).
+float LargestAbsX(const std::vector<b2Body*>& bodies);
 
 /// Contacts whose fixtures touch.
 int TouchingContacts(const b2World& world);

@@ -55,10 +55,7 @@ struct Gun
             b2FixtureDef fd = Material(10.0f, 0.4f, 0.2f);
             if (index % 4 < 2)
             {
-                b2CircleShape circle;
-                circle.m_radius = 0.1f;
-                fd.shape = &circle;
-                body->CreateFixture(&fd);
+                AddCircleFixture(body, 0.1f, fd);
             }
             else
             {

@@ -99,9 +99,7 @@ Scene BuildOpenWorld(int size, uint32_t seed)
             continue;
         }
         b2Body* tree = CreateStaticBody(world, center + b2Vec2(x, y));
-        b2CircleShape circle;
-        circle.m_radius = radius;
-        tree->CreateFixture(&circle, 0.0f);
+        AddCircleFixture(tree, radius, b2FixtureDef());
         ++placed;
     }
     return scene;

@@ -52,10 +52,7 @@ Scene BuildParticles(int size, uint32_t seed)
     const float rowPitch = side / static_cast<float>(rows);
     const float rowJitter = std::max(0.0f, 0.5f * rowPitch - radius - 0.01f);
 
-    b2CircleShape circle;
-    circle.m_radius = radius;
-    b2FixtureDef fd = Material(1.0f, 0.0f, 1.0f);
-    fd.shape = &circle;
+    const b2FixtureDef fd = Material(1.0f, 0.0f, 1.0f);
 
     for (int32_t cell : cells)
     {
@@ -73,7 +70,7 @@ Scene BuildParticles(int size, uint32_t seed)
         const float speed = rng.Uniform(1.0f, 5.0f);
         bd.linearVelocity.Set(speed * std::cos(angle), speed * std::sin(angle));
         b2Body* body = world.CreateBody(&bd);
-        body->CreateFixture(&fd);
+        AddCircleFixture(body, radius, fd);
     }
     return scene;
 }

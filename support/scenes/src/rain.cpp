@@ -49,22 +49,16 @@ Scene BuildRain(int size, uint32_t seed)
 
     // Spawn grid above the container: cells of 1.5 m, as many columns as fit inside the walls.
     const float pitch = 1.5f;
-    const int columns = std::max(1, static_cast<int>(innerWidth / pitch) - 1);
-    const float x0 = -0.5f * pitch * static_cast<float>(columns - 1);
-    const float y0 = wallHeight + 2.0f;
+    const SpawnGrid grid{pitch, std::max(1, static_cast<int>(innerWidth / pitch) - 1), wallHeight + 2.0f};
 
     for (int i = 0; i < size; ++i)
     {
-        const int row = i / columns;
-        const int column = i % columns;
-
         b2BodyDef bd;
         bd.type = b2_dynamicBody;
         // One draw per statement: the evaluation order of function arguments is unspecified.
         const float dx = rng.Uniform(-0.1f, 0.1f);
         const float dy = rng.Uniform(-0.1f, 0.1f);
-        bd.position.Set(x0 + pitch * static_cast<float>(column) + dx,
-                        y0 + pitch * static_cast<float>(row) + dy);
+        bd.position = grid.At(i) + b2Vec2(dx, dy);
         bd.linearDamping = 1.0f; // air drag: terminal velocity g / 1 = 10 m/s
         bd.angle = rng.Uniform(-b2_pi, b2_pi);
         const float vx = rng.Uniform(-1.0f, 1.0f);

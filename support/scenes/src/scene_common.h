@@ -68,6 +68,31 @@ inline b2Fixture* AddBoxFixture(b2Body* body, float hx, float hy, b2Vec2 center,
     return body->CreateFixture(&fd);
 }
 
+/// Spawn points on a grid `pitch` apart, `columns` wide and centred on x = 0, its bottom row at y = y0: point i
+/// is in row i / columns, column i % columns.
+struct SpawnGrid
+{
+    float pitch;
+    int columns;
+    float y0;
+
+    b2Vec2 At(int i) const
+    {
+        const float x0 = -0.5f * pitch * static_cast<float>(columns - 1);
+        return b2Vec2(x0 + pitch * static_cast<float>(i % columns),
+                      y0 + pitch * static_cast<float>(i / columns));
+    }
+};
+
+/// Adds a circle fixture of `radius` centred on the body, made of `fd` (its shape is set here).
+inline b2Fixture* AddCircleFixture(b2Body* body, float radius, b2FixtureDef fd)
+{
+    b2CircleShape circle;
+    circle.m_radius = radius;
+    fd.shape = &circle;
+    return body->CreateFixture(&fd);
+}
+
 /// Adds a pyramid of unit boxes (side 1, density 5) in the style of Box2D's testbed: `base` boxes on the
 /// bottom row, bottom-left box centred at (x0, y0).
 void AddBoxPyramid(b2World& world, int base, float x0, float y0);
@@ -79,10 +104,7 @@ inline void AddRandomCircleOrBox(b2Body* body, b2FixtureDef fd, Rng& rng, float 
 {
     if (rng.Uniform01() < 0.5f)
     {
-        b2CircleShape circle;
-        circle.m_radius = rng.Uniform(rMin, rMax);
-        fd.shape = &circle;
-        body->CreateFixture(&fd);
+        AddCircleFixture(body, rng.Uniform(rMin, rMax), fd);
     }
     else
     {

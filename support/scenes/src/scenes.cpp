@@ -160,6 +160,17 @@ void StepScene(Scene& scene)
     ++scene.stepCount;
 }
 
+b2Body* AddBody(b2World& world, b2BodyType type, b2Vec2 position, const b2Shape& shape, b2FixtureDef material)
+{
+    b2BodyDef bd;
+    bd.type = type;
+    bd.position = position;
+    b2Body* body = world.CreateBody(&bd);
+    material.shape = &shape;
+    body->CreateFixture(&material);
+    return body;
+}
+
 int32_t CountBodies(const b2World& world)
 {
     return world.GetBodyCount();
@@ -270,6 +281,8 @@ void AddBoxPyramid(b2World& world, int base, float x0, float y0)
 {
     b2PolygonShape shape;
     shape.SetAsBox(0.5f, 0.5f);
+    b2FixtureDef material;
+    material.density = 5.0f;
 
     // Testbed spacing: rows shift right by half a box plus a gap, boxes are 1.125 apart.
     const b2Vec2 deltaRow(0.5625f, 1.25f);
@@ -280,11 +293,7 @@ void AddBoxPyramid(b2World& world, int base, float x0, float y0)
         b2Vec2 position = rowStart;
         for (int column = row; column < base; ++column)
         {
-            b2BodyDef bd;
-            bd.type = b2_dynamicBody;
-            bd.position = position;
-            b2Body* body = world.CreateBody(&bd);
-            body->CreateFixture(&shape, 5.0f);
+            AddBody(world, b2_dynamicBody, position, shape, material);
             position += deltaColumn;
         }
         rowStart += deltaRow;

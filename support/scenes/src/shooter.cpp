@@ -80,14 +80,11 @@ struct Shooter
             bd.position = playerPosition + 1.3f * direction;
             bd.linearVelocity = kBulletSpeed * direction;
             b2Body* bullet = world.CreateBody(&bd);
-            b2CircleShape circle;
-            circle.m_radius = 0.1f;
             b2FixtureDef fd;
-            fd.shape = &circle;
             fd.density = 0.5f;
             fd.filter.categoryBits = kBulletBit;
             fd.filter.maskBits = kWallBit | kEnemyBit;
-            bullet->CreateFixture(&fd);
+            AddCircleFixture(bullet, 0.1f, fd);
             bullets.emplace_back(bullet, step);
         }
     }
@@ -156,13 +153,10 @@ Scene BuildShooter(int size, uint32_t seed)
         bd.type = b2_kinematicBody;
         bd.position = shooter.PlayerTarget(1);
         shooter.player = world.CreateBody(&bd);
-        b2CircleShape circle;
-        circle.m_radius = 1.0f;
         b2FixtureDef fd;
-        fd.shape = &circle;
         fd.filter.categoryBits = kPlayerBit;
         fd.filter.maskBits = kWallBit | kEnemyBit;
-        shooter.player->CreateFixture(&fd);
+        AddCircleFixture(shooter.player, 1.0f, fd);
     }
 
     for (int i = 0; i < size; ++i)
@@ -173,14 +167,11 @@ Scene BuildShooter(int size, uint32_t seed)
         // Cells run out only for tiny arenas; then enemies share cells and Box2D pushes them apart.
         bd.position = cellCenter(cells[(nextCell + static_cast<size_t>(i)) % cells.size()]);
         b2Body* enemy = world.CreateBody(&bd);
-        b2CircleShape circle;
-        circle.m_radius = 0.5f;
         b2FixtureDef fd;
-        fd.shape = &circle;
         fd.density = 1.0f;
         fd.friction = 0.3f;
         fd.filter.categoryBits = kEnemyBit;
-        enemy->CreateFixture(&fd);
+        AddCircleFixture(enemy, 0.5f, fd);
         shooter.enemies.push_back(enemy);
         shooter.enemySpeed.push_back(rng.Uniform(2.5f, 4.0f));
     }

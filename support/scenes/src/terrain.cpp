@@ -58,17 +58,13 @@ Scene BuildTerrain(int size, uint32_t seed)
     }
 
     const float pitch = 2.6f;
-    const int columns = std::max(1, static_cast<int>((2.0f * half - 4.0f) / pitch));
-    const float x0 = -0.5f * pitch * static_cast<float>(columns - 1);
-    const float y0 = highest + 5.0f;
+    const SpawnGrid grid{pitch, std::max(1, static_cast<int>((2.0f * half - 4.0f) / pitch)), highest + 5.0f};
     for (int i = 0; i < size; ++i)
     {
-        const int row = i / columns;
-        const int column = i % columns;
         b2BodyDef bd;
         bd.type = b2_dynamicBody;
         bd.angularDamping = 0.1f;
-        bd.position.Set(x0 + pitch * static_cast<float>(column), y0 + pitch * static_cast<float>(row));
+        bd.position = grid.At(i);
         bd.angle = rng.Uniform(-b2_pi, b2_pi);
         b2Body* body = world.CreateBody(&bd);
         b2FixtureDef fd;
@@ -76,10 +72,7 @@ Scene BuildTerrain(int size, uint32_t seed)
         fd.friction = 0.8f;
         if (rng.Uniform01() < 0.7f)
         {
-            b2CircleShape circle;
-            circle.m_radius = rng.Uniform(0.3f, 1.2f);
-            fd.shape = &circle;
-            body->CreateFixture(&fd);
+            AddCircleFixture(body, rng.Uniform(0.3f, 1.2f), fd);
         }
         else
         {

@@ -98,6 +98,10 @@ std::unique_ptr<b2World> BuildSceneWorld(SceneId id, int size, uint32_t seed);
 /// ++stepCount.
 void StepScene(Scene& scene);
 
+/// Adds a body of `type` at `position` with one fixture: `shape` made of `material` (whose shape is set here).
+b2Body* AddBody(b2World& world, b2BodyType type, b2Vec2 position, const b2Shape& shape,
+                b2FixtureDef material);
+
 /// Number of bodies / fixtures currently in the world (static ones included).
 int32_t CountBodies(const b2World& world);
 int32_t CountFixtures(const b2World& world);
