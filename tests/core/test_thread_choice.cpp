@@ -126,3 +126,25 @@ TEST_CASE("ThreadChoice leaves a mode whose cost rose at once, and probes it onl
     REQUIRE(switched < size_t(interval) + 8);
     CHECK(CountParallel(modes, switched) <= 2 * ThreadChoice::kProbeCalls);
 }
+
+TEST_CASE("ThreadChoice probes a parallel mode that costs a hitch only at the longest interval", "[threads]")
+{
+    // Parallel regions that wait for a worker without a core: five times serial. Two initial parallel calls
+    // measure it, one probe at the first interval confirms it, then none until the longest interval has passed
+    // (doubling from 32 would probe five times in these calls, each probe a hitch).
+    Costs busy;
+    busy.parallel = 5.0 * busy.serial;
+    ThreadChoice choice;
+    const std::vector<bool> modes = Drive(choice, busy, 1100);
+    CHECK_FALSE(choice.Parallel());
+    CHECK(choice.ProbeEvery() == 1024);
+    CHECK(CountParallel(modes, 0) <= 2 + 2 * ThreadChoice::kProbeCalls);
+
+    // A parallel mode that merely loses (1.5x serial) is probed as before, doubling the interval.
+    Costs losing;
+    losing.parallel = 1.5 * losing.serial;
+    ThreadChoice other;
+    const std::vector<bool> otherModes = Drive(other, losing, 1100);
+    CHECK_FALSE(other.Parallel());
+    CHECK(CountParallel(otherModes, 0) > 2 + 3 * ThreadChoice::kProbeCalls);
+}

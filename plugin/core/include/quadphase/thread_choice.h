@@ -20,7 +20,8 @@ namespace quadphase
 ///
 /// Schedule: the preferred mode runs; every ProbeEvery() eligible calls the other one runs kProbeCalls times in a
 /// row (the first of them only pays the other mode's aftermath, the rest are measured). A probe that leaves the
-/// preference unchanged doubles the interval, up to 1024 calls; one that changes it resets the interval to 32.
+/// preference unchanged doubles the interval, up to 1024 calls; one that changes it resets the interval to 32; a
+/// probe that finds parallel above kHarmfulRatio x serial sets it to 1024 at once.
 /// Serial is measured first, then parallel, and parallel must be faster by a margin (kParallelMargin): a parallel
 /// region whose second thread waits for a core that another program holds costs milliseconds where serial costs
 /// tens of microseconds, so a wrong start on a busy machine is expensive.
@@ -32,6 +33,8 @@ public:
     static constexpr int kProbeCalls = 3;
     // parallel is preferred when under this fraction of serial
     static constexpr double kParallelMargin = 0.85;
+    // parallel measured above this multiple of serial was a hitch, not a mere loss (see Record)
+    static constexpr double kHarmfulRatio = 3.0;
 
     /// The mode of the next eligible call: true for parallel.
     bool Next()
@@ -61,9 +64,14 @@ public:
         if (m_probing && m_calls % m_probeEvery == m_probeEvery - 1)
         {
             m_probing = false;
-            // A probe that did not change the preference was wasted: probe less often.
+            // A probe that did not change the preference was wasted: probe less often. A probe of parallel that
+            // found it above kHarmfulRatio x serial waited for a worker that had no core (a busy machine, or the
+            // game's own threads on every core): each such probe is a hitch of a scheduler time slice in some step,
+            // so the next one waits the longest interval at once (bench/results/frames.md, particles 20,000 beside
+            // a busy thread). Only a whole probe decides it: one slow call on a quiet machine does not.
             const bool changed = Parallel() == m_probeParallel;
-            m_probeEvery = changed ? 32 : (m_probeEvery < 1024 ? 2 * m_probeEvery : 1024);
+            const bool harmful = m_probeParallel && !changed && m_parallelNs > kHarmfulRatio * m_serialNs;
+            m_probeEvery = changed ? 32 : (harmful || m_probeEvery >= 1024 ? 1024 : 2 * m_probeEvery);
         }
     }
 
