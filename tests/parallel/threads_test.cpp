@@ -74,7 +74,8 @@ TEST_CASE("with the defaults, a large scene starts OpenMP's team when it is buil
 
 TEST_CASE("with a game's task system, pair generation starts no OpenMP thread", "[threads][tasks]")
 {
-    qpjobs::JobSystem jobs(3); // its two pool threads exist before the count
+    // its two pool threads exist before the count; the caller Waits, so the pool surely runs the ranges
+    qpjobs::JobSystem jobs(3, qpjobs::JobSystem::Caller::Waits);
     const int before = ThreadCount();
     quadphase::scenes::Scene scene = quadphase::scenes::BuildScene(SceneId::Particles, 4000, 1);
     quadphase::SetTaskSystem(*scene.world, jobs.Tasks());

@@ -20,9 +20,19 @@ namespace qpjobs
 class JobSystem
 {
 public:
-    /// `workers` threads take part in a task: the caller of finishTask (worker 0) and workers - 1 pool threads,
-    /// all started here. workers >= 1.
-    explicit JobSystem(int workers) : m_workers(std::max(1, workers))
+    /// Who runs a task's ranges. Helps: the caller of finishTask takes ranges too, as a game's main thread does
+    /// (fastest; which thread runs which range is then a race). Waits: the caller only waits, so every range of a
+    /// task that was split runs on the pool (tests use it to prove that the pool's threads searched).
+    enum class Caller
+    {
+        Helps,
+        Waits
+    };
+
+    /// `workers` threads take part in a task: the caller of finishTask (worker 0, unless it Waits) and workers - 1
+    /// pool threads, all started here. workers >= 1.
+    explicit JobSystem(int workers, Caller caller = Caller::Helps)
+        : m_workers(std::max(1, workers)), m_callerHelps(caller == Caller::Helps)
     {
         for (int i = 1; i < m_workers; ++i)
         {
@@ -104,13 +114,14 @@ private:
         return task;
     }
 
-    // The caller helps until the queue is empty, then waits for the ranges still running on the pool.
+    // The caller helps (unless it Waits) until the queue is empty, then waits for the ranges still running on the
+    // pool.
     static void Finish(void* handle, void* user)
     {
         auto* self = static_cast<JobSystem*>(user);
         auto* task = static_cast<Task*>(handle);
         Range range;
-        while (self->Pop(range))
+        while (self->m_callerHelps && self->Pop(range))
         {
             self->RunRange(range, 0);
         }
@@ -167,6 +178,7 @@ private:
     }
 
     const int m_workers;
+    const bool m_callerHelps;
     std::vector<std::thread> m_threads;
     std::mutex m_mutex;
     std::condition_variable m_wake; // pool threads: a range was queued, or stop
