@@ -87,33 +87,6 @@ std::string Describe(const Config& c)
 }
 
 // ---------------------------------------------------------------------------------------------------------------
-// Engines.
-// ---------------------------------------------------------------------------------------------------------------
-
-/// Does nothing: measures the replay loop's own cost (op dispatch, id map, clock reads).
-class NullEngine
-{
-public:
-    int32_t Create(const Box&, int32_t recorded)
-    {
-        ++m_live;
-        return recorded;
-    }
-    void Destroy(int32_t) { --m_live; }
-    void Move(int32_t, const Box&, Vec2) {}
-    void Touch(int32_t) {}
-    void UpdatePairs() {}
-    void ShiftOrigin(Vec2) {}
-    int32_t ProxyCount() const { return m_live; }
-    size_t PairCount() const { return 0; }
-    void PairKeys(std::vector<uint64_t>&) const {}
-    void BeginTimedSteps() {}
-
-private:
-    int32_t m_live = 0;
-};
-
-// ---------------------------------------------------------------------------------------------------------------
 // Query statistics for the checking run (timed steps only).
 // ---------------------------------------------------------------------------------------------------------------
 struct QueryStats
@@ -352,7 +325,7 @@ int main(int argc, char** argv)
             .Int("warmup", index.warmup);
         return j;
     };
-    if (engineName != "quadtree" && engineName != "null")
+    if (engineName != "quadtree")
     {
         return RunPeer(PeerRun{args, loaded, engineName, [&](const char* kind) {
                                    JsonLine j = baseJson(kind);
@@ -367,22 +340,6 @@ int main(int argc, char** argv)
             .Int("depth", c.depth)
             .Int("threshold", c.parallelThreshold);
     };
-
-    if (engineName == "null")
-    {
-        for (int r = 0; r < repeats; ++r)
-        {
-            NullEngine engine;
-            const RunResult result = Replay(loaded, engine);
-            JsonLine j = baseJson("run");
-            j.Str("engine", "null").Int("rep", r);
-            AddRun(j, result);
-            AppendLine(jsonPath, j.Text());
-            std::printf("null engine rep %d: %.3f ms per step (replay loop overhead)\n", r,
-                        double(result.Total(&StepSample::ns)) / index.steps * 1e-6);
-        }
-        return 0;
-    }
 
     int64_t mismatches = 0;
     // Untimed checking runs.
@@ -473,60 +430,46 @@ int main(int argc, char** argv)
     }
 
     // Timed runs: configurations interleaved within each round.
-    std::vector<std::vector<double>> perConfigMs(configs.size()), perConfigFindMs(configs.size());
-    std::vector<double> meanProxies(configs.size(), 0.0), pairsPerStep(configs.size(), 0.0);
+    using Quadtree = CoreEngine<quadphase::QuadtreeBroadPhase>;
+    std::vector<Timings> timings;
+    for (const Config& c : configs)
+    {
+        timings.push_back(Timings{Describe(c), {}, {}});
+    }
     for (int r = 0; r < repeats; ++r)
     {
         for (size_t ci = 0; ci < configs.size(); ++ci)
         {
             const Config& c = configs[ci];
-            const int64_t heap0 = HeapBytes();
-            auto engine =
-                std::make_unique<CoreEngine<quadphase::QuadtreeBroadPhase>>(quadphase::FatPolicy{}, c);
-            const RunResult result = Replay(loaded, *engine);
-            // What the engine holds after the whole trace (HeapBytes).
-            const int64_t heap = HeapBytes() - heap0;
-            const quadphase::Stats st = engine->Get().GetStats();
             JsonLine j = baseJson("run");
             j.Str("engine", "quadtree");
             configJson(j, c);
-            // updateSeconds: the time the core itself booked as grid maintenance during the timed steps
-            // (MoveProxy timing is off, so with deferred maintenance this is the batched re-placement inside
-            // FindPairs).
-            j.Int("rep", r)
-                .Int("depth_used", st.depth)
-                .Int("parallel_calls", st.parallelCalls)
-                .Int("reinserts", st.reinserts)
-                .Int("proxies_queried", st.proxiesQueried)
-                .Int("rebuilds", st.rebuilds)
-                .Num("replace_s", st.updateSeconds)
-                .Int("heap_bytes", heap)
-                .Num("bytes_per_proxy", double(heap) / std::max(1, engine->ProxyCount()));
-            AddRun(j, result);
-            if (perCall)
-            {
-                j.Array("calls_ns", result.callNs);
-            }
-            AppendLine(jsonPath, j.Text());
-            const auto perStep = [&](auto field) {
-                return double(result.Total(field)) / index.steps;
+            const auto make = [&] {
+                return std::make_unique<Quadtree>(quadphase::FatPolicy{}, c);
             };
-            perConfigMs[ci].push_back(perStep(&StepSample::ns) * 1e-6);
-            perConfigFindMs[ci].push_back(perStep(&StepSample::findNs) * 1e-6);
-            meanProxies[ci] = perStep(&StepSample::proxies);
-            pairsPerStep[ci] = perStep(&StepSample::pairs);
+            TimedRun(
+                loaded, jsonPath, j, timings[ci], make,
+                [&](JsonLine& line, Quadtree& engine, const RunResult& result) {
+                    const quadphase::Stats st = engine.Get().GetStats();
+                    // updateSeconds: the time the core itself booked as grid maintenance during the timed steps
+                    // (MoveProxy timing is off, so with deferred maintenance this is the batched re-placement inside
+                    // FindPairs).
+                    line.Int("depth_used", st.depth)
+                        .Int("parallel_calls", st.parallelCalls)
+                        .Int("reinserts", st.reinserts)
+                        .Int("proxies_queried", st.proxiesQueried)
+                        .Int("rebuilds", st.rebuilds)
+                        .Num("replace_s", st.updateSeconds);
+                    if (perCall)
+                    {
+                        line.Array("calls_ns", result.callNs);
+                    }
+                });
         }
     }
-    if (repeats > 0)
+    for (const Timings& t : timings)
     {
-        std::printf("%-62s %10s %10s %12s %12s\n", "configuration (median of repeats)", "ms/step", "find ms",
-                    "ns/proxy/step", "pairs/step");
-    }
-    for (size_t ci = 0; repeats > 0 && ci < configs.size(); ++ci)
-    {
-        const double ms = Median(perConfigMs[ci]);
-        std::printf("%-62s %10.3f %10.3f %12.1f %12.0f\n", Describe(configs[ci]).c_str(), ms,
-                    Median(perConfigFindMs[ci]), ms * 1e6 / std::max(1.0, meanProxies[ci]), pairsPerStep[ci]);
+        t.PrintMedians();
     }
     if (mismatches != 0)
     {

@@ -557,37 +557,47 @@ inline void AddRun(JsonLine& j, const RunResult& r)
         .Array("steps_ops", r.Column(&StepSample::ops));
 }
 
-/// The timed runs of every engine but the quadtree (replay_peers.cpp): `repeats` replays, each of a fresh
-/// engine from make(); one JSON line per run (base("run"), the run's heap bytes per proxy as HeapBytes
-/// measures them, the per-step arrays), a line per run and the median on stdout.
-template <typename Make, typename Base>
-void TimedRuns(const LoadedTrace& loaded, const char* name, int repeats, const std::string& jsonPath,
-               Make make, Base base)
+/// The times per step of one engine configuration's timed runs (TimedRun), for the medians printed at the end.
+struct Timings
 {
-    std::vector<double> ms;
-    for (int r = 0; r < repeats; ++r)
+    std::string name;
+    std::vector<double> ms, findMs; // per run: the whole broadphase work and its UpdatePairs calls
+
+    void PrintMedians() const
     {
-        const int64_t heap0 = HeapBytes();
-        auto engine = make();
-        const RunResult result = Replay(loaded, *engine);
-        const int64_t heap = HeapBytes() - heap0; // what the engine holds after the whole trace
-        const double perProxy = double(heap) / std::max(1, engine->ProxyCount());
-        JsonLine j = base("run");
-        j.Int("rep", r)
-            .Int("heap_bytes", heap)
-            .Int("proxies_end", engine->ProxyCount())
-            .Num("bytes_per_proxy", perProxy);
-        AddRun(j, result);
-        AppendLine(jsonPath, j.Text());
-        const double total = double(result.Total(&StepSample::ns));
-        ms.push_back(total / loaded.steps.steps * 1e-6);
-        std::printf("%s rep %d: %.3f ms/step, %.1f ns/proxy/step, %.0f bytes/proxy\n", name, r, ms.back(),
-                    total / std::max(1.0, double(result.Total(&StepSample::proxies))), perProxy);
+        if (!ms.empty())
+        {
+            std::printf("%s: median %.3f ms/step, FindPairs %.3f ms/step\n", name.c_str(), Median(ms),
+                        Median(findMs));
+        }
     }
-    if (!ms.empty())
-    {
-        std::printf("%s: median %.3f ms/step\n", name, Median(ms));
-    }
+};
+
+/// One timed run, of any engine: a fresh engine from make() replays the trace. Appends its JSON line (`j`, the
+/// run's number, the heap bytes the engine holds after the whole trace as HeapBytes measures them, the per-step
+/// arrays, then what more(j, engine, result) adds), prints a line and adds the run's times to `t`.
+template <typename Make, typename More>
+void TimedRun(const LoadedTrace& loaded, const std::string& jsonPath, JsonLine j, Timings& t, Make make,
+              More more)
+{
+    const int64_t heap0 = HeapBytes();
+    auto engine = make();
+    const RunResult result = Replay(loaded, *engine);
+    const int64_t heap = HeapBytes() - heap0;
+    const double perProxy = double(heap) / std::max(1, engine->ProxyCount());
+    j.Int("rep", int64_t(t.ms.size()))
+        .Int("heap_bytes", heap)
+        .Int("proxies_end", engine->ProxyCount())
+        .Num("bytes_per_proxy", perProxy);
+    AddRun(j, result);
+    more(j, *engine, result);
+    AppendLine(jsonPath, j.Text());
+    const double total = double(result.Total(&StepSample::ns));
+    t.ms.push_back(total / loaded.steps.steps * 1e-6);
+    t.findMs.push_back(double(result.Total(&StepSample::findNs)) / loaded.steps.steps * 1e-6);
+    std::printf("%s rep %zu: %.3f ms/step, %.1f ns/proxy/step, %.0f bytes/proxy\n", t.name.c_str(),
+                t.ms.size() - 1, t.ms.back(),
+                total / std::max(1.0, double(result.Total(&StepSample::proxies))), perProxy);
 }
 
 } // namespace qpbench

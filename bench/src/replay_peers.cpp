@@ -53,6 +53,29 @@ void AddKeys(const PairList& pairs, std::vector<uint64_t>& keys)
     }
 }
 
+/// Does nothing: measures the replay loop's own cost (op dispatch, id map, clock reads).
+class NullEngine
+{
+public:
+    int32_t Create(const Box&, int32_t recorded)
+    {
+        ++m_live;
+        return recorded;
+    }
+    void Destroy(int32_t) { --m_live; }
+    void Move(int32_t, const Box&, Vec2) {}
+    void Touch(int32_t) {}
+    void UpdatePairs() {}
+    void ShiftOrigin(Vec2) {}
+    int32_t ProxyCount() const { return m_live; }
+    size_t PairCount() const { return 0; }
+    void PairKeys(std::vector<uint64_t>&) const {}
+    void BeginTimedSteps() {}
+
+private:
+    int32_t m_live = 0;
+};
+
 class StockEngine
 {
 public:
@@ -418,8 +441,12 @@ int RunEngine(const PeerRun& run, Make make, bool checked = true)
         j.Int("calls_hashed", calls).Int("mismatches", bad);
         AppendLine(run.args.Get("json"), j.Text());
     }
-    TimedRuns(run.loaded, run.engine.c_str(), int(run.args.GetInt("repeats", 5)), run.args.Get("json"), make,
-              run.base);
+    Timings timings{run.engine, {}, {}};
+    for (int r = 0; r < int(run.args.GetInt("repeats", 5)); ++r)
+    {
+        TimedRun(run.loaded, run.args.Get("json"), run.base("run"), timings, make, [](auto&&...) {});
+    }
+    timings.PrintMedians();
     return bad != 0 ? 3 : 0;
 }
 
@@ -451,6 +478,11 @@ int RunPeer(const PeerRun& run)
     const float multiplier = native && m != std::string::npos ? float(std::atof(e.c_str() + m + 2))
                                                               : quadphase::FatPolicy{}.multiplier;
     const std::string base = e.substr(0, std::min({e.find("-native"), x, m}));
+    if (base == "null")
+    {
+        return RunEngine<NullEngine>(
+            run, [] { return std::make_unique<NullEngine>(); }, false);
+    }
     if (base == "stock")
     {
         return RunEngine<StockEngine>(run, [] { return std::make_unique<StockEngine>(); });
