@@ -55,8 +55,8 @@ public:
 
     /// `levels` is clamped to [kMinLevels, kMaxLevels]. `bounds` is the fixed region (the paper used the window);
     /// an empty, inverted or non-finite region is reported (ErrorCode::InvertedBox / NonFiniteBox) and replaced by
-    /// Config's default bounds. `threads`: 0 = OpenMP's own setting, 1 = the paper's sequential quadtree (no
-    /// parallel region, no pair lock), n >= 2 = a team of n. `schedule` is the leaf loop's OpenMP schedule
+    /// Config's default bounds. `threads`: 0 = OpenMP's own setting, 1 = the paper's sequential quadtree (an
+    /// inactive parallel region, no pair lock), n >= 2 = a team of n. `schedule` is the leaf loop's OpenMP schedule
     /// (Static, Dynamic, Guided as compared in the paper; Auto is not from the paper), with OpenMP's default chunk.
     PaperQuadtreeBroadPhase(int levels, const Box& bounds, int threads = 0,
                             Schedule schedule = Schedule::Static,
@@ -96,8 +96,6 @@ private:
     void Generate(int32_t node, int remainingLevels, std::vector<int32_t>& creationOrder);
     void Linearize(const std::vector<int32_t>& creationOrder);
     int32_t Descend(const Box& fat) const;
-    void RunSequential(std::vector<Pair>& out);
-    void RunParallel(std::vector<Pair>& out, int threads);
 
     PaperPairReport m_report;
     int m_levels;
