@@ -172,7 +172,7 @@ namespace
 template <typename Emit>
 void ProcessLeaf(const std::vector<ProxyId>& objects, const Box& leafBox, int32_t leafIndex, int32_t side,
                  const std::vector<const std::vector<ProxyId>*>& leafObjects, const ProxyPool& pool,
-                 Emit&& emit, int64_t& tests)
+                 Emit&& emit)
 {
     const int32_t row = leafIndex / side;
     const int32_t column = leafIndex % side;
@@ -196,7 +196,6 @@ void ProcessLeaf(const std::vector<ProxyId>& objects, const Box& leafBox, int32_
             }
             for (ProxyId b : *leafObjects[size_t(neighbour[e])])
             {
-                ++tests;
                 if (Overlaps(fa, pool.Fat(b)))
                 {
                     emit(a, b);
@@ -206,7 +205,6 @@ void ProcessLeaf(const std::vector<ProxyId>& objects, const Box& leafBox, int32_
         for (size_t j = i + 1; j < count; ++j)
         {
             const ProxyId b = objects[j];
-            ++tests;
             if (Overlaps(fa, pool.Fat(b)))
             {
                 emit(a, b);
@@ -241,10 +239,8 @@ void PaperQuadtreeBroadPhase::FindPairs(std::vector<Pair>& out)
     const ProxyId idBound = m_pool.IdBound();
     const int32_t leafCount = int32_t(m_leaves.size());
     Locks& locks = *m_locks;
-    int64_t tests = 0;
-    int64_t found = 0;
 
-#pragma omp parallel num_threads(threads) if (threads > 1) reduction(+ : tests, found)
+#pragma omp parallel num_threads(threads) if (threads > 1)
     {
 #pragma omp for schedule(static)
         for (ProxyId id = 0; id < idBound; ++id)
@@ -261,7 +257,6 @@ void PaperQuadtreeBroadPhase::FindPairs(std::vector<Pair>& out)
         // (implicit barrier: every object is inserted before any leaf is searched)
 
         auto emit = [&](ProxyId a, ProxyId b) {
-            ++found;
             if (!filter || m_pool.InWork(a) || m_pool.InWork(b))
             {
                 if (threads > 1)
@@ -279,13 +274,11 @@ void PaperQuadtreeBroadPhase::FindPairs(std::vector<Pair>& out)
         for (int32_t li = 0; li < leafCount; ++li)
         {
             const Node& leaf = m_nodes[size_t(m_leaves[size_t(li)])];
-            ProcessLeaf(leaf.objects, leaf.box, li, m_leafSide, leafObjects, m_pool, emit, tests);
+            ProcessLeaf(leaf.objects, leaf.box, li, m_leafSide, leafObjects, m_pool, emit);
         }
     }
 
     omp_set_schedule(previousKind, previousChunk); // the schedule ICV belongs to the caller's thread
-    m_lastTests = tests;
-    m_lastFound = found;
     for (int32_t node : m_leaves)
     {
         m_nodes[size_t(node)].objects.clear();

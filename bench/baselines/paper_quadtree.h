@@ -77,10 +77,6 @@ public:
 
     int GetLevels() const { return m_levels; }
 
-    /// Counters of the last FindPairs: overlap tests made, and pairs found (before the Buffered filter).
-    int64_t GetLastTests() const { return m_lastTests; }
-    int64_t GetLastFound() const { return m_lastFound; }
-
 private:
     struct Node
     {
@@ -106,8 +102,6 @@ private:
     std::vector<Node> m_nodes;     // m_nodes[0] is the root
     std::vector<int32_t> m_leaves; // node index of each leaf, row-major after Linearize (the paper's `leafs`)
     std::unique_ptr<Locks> m_locks;
-    int64_t m_lastTests = 0;
-    int64_t m_lastFound = 0;
 };
 
 } // namespace bench

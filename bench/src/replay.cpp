@@ -205,24 +205,23 @@ double TriadBytesPerSecond(size_t n, int repeats)
 int main(int argc, char** argv)
 {
     const Args args(argc, argv, "qp-replay",
-                    {"trace", "steps-file", "threads", "schedule", "chunk", "depth", "threshold", "config",
-                     "repeats", "check", "hashes-out", "compare-hashes", "engine", "json", "label", "levels",
+                    {"trace", "threads", "schedule", "chunk", "depth", "threshold", "config", "repeats",
+                     "check", "hashes-out", "compare-hashes", "engine", "json", "label", "levels",
                      "max-proxies"},
-                    {"brute", "omp-overhead", "force-brute", "per-call", "print-config", "triad"});
-    args.Check(args.Has("trace") || args.Has("omp-overhead") || args.Has("print-config") || args.Has("triad"),
-               "usage: qp-replay --trace FILE [--steps-file FILE] [--engine NAME] [--repeats R]"
-               " [--check none|first|all]\n"
-               "                 [--hashes-out FILE] [--compare-hashes FILE] [--json FILE] [--label TEXT]\n"
-               "  quadtree (default): [--threads N] [--schedule static|dynamic|guided|auto] [--chunk C]"
-               " [--depth D|auto]\n"
-               "                 [--threshold T] [--config k=v,k=v]... [--brute] [--per-call]\n"
-               "  null: the replay loop alone; stock, brute, paper ([--levels L|auto] [--threads N]),"
-               " oracle, cp-hash-xK,\n"
-               "  cp-tree, bt-dbvt, and -native[-mM] modes of cp-hash-xK, cp-tree, bt-dbvt, bt-sap"
-               " (replay_peers.cpp)\n"
-               "  qp-replay --omp-overhead | --triad | --print-config\n"
-               "available here: stock brute paper oracle%s%s\n",
-               QP_HAVE_CHIPMUNK ? " cp-hash cp-tree" : "", QP_HAVE_BULLET ? " bt-dbvt bt-sap" : "");
+                    {"brute", "omp-overhead", "per-call", "print-config", "triad"});
+    args.Check(
+        args.Has("trace") || args.Has("omp-overhead") || args.Has("print-config") || args.Has("triad"),
+        "usage: qp-replay --trace FILE [--engine NAME] [--repeats R] [--check none|first|all]\n"
+        "                 [--hashes-out FILE] [--compare-hashes FILE] [--json FILE] [--label TEXT]\n"
+        "  quadtree (default): [--threads N] [--schedule static|dynamic|guided|auto] [--chunk C]\n"
+        "                 [--depth D|auto] [--threshold T] [--config k=v,k=v]... [--per-call]\n"
+        "                 [--brute [--max-proxies N]]\n"
+        "  null: the replay loop alone; stock, brute ([--max-proxies N]), paper ([--levels L|auto]\n"
+        "  [--threads N]), oracle, cp-hash-xK, cp-tree, bt-dbvt, and -native[-mM] modes of cp-hash-xK,\n"
+        "  cp-tree, bt-dbvt, bt-sap (replay_peers.cpp)\n"
+        "  qp-replay --omp-overhead | --triad | --print-config\n"
+        "available here: stock brute paper oracle%s%s\n",
+        QP_HAVE_CHIPMUNK ? " cp-hash cp-tree" : "", QP_HAVE_BULLET ? " bt-dbvt bt-sap" : "");
     if (args.Has("print-config"))
     {
         // The core's defaults, for scripts (bench/parallel.py reads the default parallelThreshold).
@@ -275,7 +274,7 @@ int main(int argc, char** argv)
     }
 
     LoadedTrace loaded;
-    LoadOrDie(args.Get("trace"), args.Get("steps-file"), loaded);
+    LoadOrDie(args.Get("trace"), loaded);
     const StepIndex& index = loaded.steps;
     std::printf("trace %s: scene %s size %d, %zu ops, %lld UpdatePairs calls, %d warm-up + %d timed steps, "
                 "%lld proxies at the end\n",
@@ -348,9 +347,9 @@ int main(int argc, char** argv)
         std::vector<CallHash> brute;
         if (args.Has("brute"))
         {
-            if (index.proxies > 20000 && !args.Has("force-brute"))
+            if (index.proxies > args.GetInt("max-proxies", 20000))
             {
-                Die(2, "qp-replay: --brute on %lld proxies would take too long (--force-brute)\n",
+                Die(2, "qp-replay: --brute on %lld proxies would take too long (--max-proxies)\n",
                     static_cast<long long>(index.proxies));
             }
             CoreEngine<quadphase::BruteForceBroadPhase> engine;

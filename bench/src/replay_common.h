@@ -286,16 +286,15 @@ struct LoadedTrace
     int32_t idBound = 0; // 1 + the largest recorded id
 };
 
-/// Loads `path` and `path + ".steps"` (or `stepsPath`), and checks that the ops form a valid call sequence:
+/// Loads `path` and `path + ".steps"`, and checks that the ops form a valid call sequence:
 /// every id is live where it is used, and boundaries lie within the trace. Exits on error.
-inline void LoadOrDie(const std::string& path, const std::string& stepsPath, LoadedTrace& loaded)
+inline void LoadOrDie(const std::string& path, LoadedTrace& loaded)
 {
     std::string error;
     loaded.path = path;
     const std::string file = path.substr(path.find_last_of('/') + 1); // npos + 1: no directory
     loaded.name = file.substr(0, file.find('.'));
-    if (!loaded.trace.Load(path, error) ||
-        !loaded.steps.Load(stepsPath.empty() ? path + ".steps" : stepsPath, error))
+    if (!loaded.trace.Load(path, error) || !loaded.steps.Load(path + ".steps", error))
     {
         Die(1, "%s\n", error.c_str());
     }
