@@ -41,7 +41,8 @@ namespace qa = quadphase::accuracy;
 // The scenes' per-step hooks (spawning, relaunching) count steps of the scenes' own 60 Hz clock.
 constexpr int kSceneHz = 60;
 
-// The command line; members are read in declaration order, `args` first.
+// The command line; members are read in declaration order, `args` first. An integer outside its range exits
+// (Args::GetIntIn).
 struct Options
 {
     const qpbench::Args& args;
@@ -49,13 +50,13 @@ struct Options
     int size = int(args.GetInt("size", -1));
     uint32_t seed = uint32_t(args.GetInt("seed", 1));
     double seconds = args.GetDouble("seconds", 10.0);
-    int hz = int(args.GetInt("hz", 60));
-    int velocityIterations = int(args.GetInt("vel-iters", 8));
-    int positionIterations = int(args.GetInt("pos-iters", 3));
+    int hz = int(args.GetIntIn("hz", 60, 1, 1000000));
+    int velocityIterations = int(args.GetIntIn("vel-iters", 8, 1, 1000000));
+    int positionIterations = int(args.GetIntIn("pos-iters", 3, 0, 1000000));
     std::string depth = args.Get("depth", "auto");   // quadphase: auto | N | auto+K | auto-K
     std::string levels = args.Get("levels", "auto"); // paper: auto | N | auto+K | auto-K
-    int threads = int(args.GetInt("threads", 1));
-    int checkEvery = int(args.GetInt("check-every", 1));
+    int threads = int(args.GetIntIn("threads", 1, 1, 256));
+    int checkEvery = int(args.GetIntIn("check-every", 1, 1, 1000000));
     double sampleEvery = args.GetDouble("sample-every", 0.5);
     std::string positionsOut = args.Get("positions-out");
 };
@@ -96,14 +97,6 @@ void CheckOptions(const Options& o)
         Fail("--scene is required (" + qs::SceneNameList() + ")");
     if (o.seconds <= 0.0)
         Fail("--seconds must be > 0");
-    if (o.hz <= 0)
-        Fail("--hz must be > 0");
-    if (o.velocityIterations < 1 || o.positionIterations < 0)
-        Fail("--vel-iters must be >= 1 and --pos-iters >= 0");
-    if (o.threads < 1)
-        Fail("--threads must be >= 1");
-    if (o.checkEvery < 1)
-        Fail("--check-every must be >= 1");
     const double perSample = o.sampleEvery * o.hz;
     if (o.sampleEvery <= 0.0 || std::fabs(perSample - std::round(perSample)) > 1e-9 ||
         std::round(perSample) < 1)

@@ -204,19 +204,18 @@ inline CallHash HashPairKeys(std::vector<uint64_t>& keys)
 /// cannot.
 inline void SaveHashesOrDie(const std::string& path, const std::vector<CallHash>& hashes)
 {
-    std::ofstream out(path);
-    out << "# qp-pairhash 1: call unique_pairs fnv1a64(sorted unique pairs in recorded ids)\n";
-    for (size_t i = 0; i < hashes.size(); ++i)
+    std::FILE* out = std::fopen(path.c_str(), "w");
+    bool ok =
+        out != nullptr &&
+        std::fprintf(out,
+                     "# qp-pairhash 1: call unique_pairs fnv1a64(sorted unique pairs in recorded ids)\n") > 0;
+    for (size_t i = 0; ok && i < hashes.size(); ++i)
     {
-        char buf[96];
-        std::snprintf(buf, sizeof(buf), "%zu %llu %016llx\n", i,
-                      static_cast<unsigned long long>(hashes[i].count),
-                      static_cast<unsigned long long>(hashes[i].hash));
-        out << buf;
+        ok = std::fprintf(out, "%zu %llu %016llx\n", i, static_cast<unsigned long long>(hashes[i].count),
+                          static_cast<unsigned long long>(hashes[i].hash)) > 0;
     }
-    if (!out)
+    if (out == nullptr || std::fclose(out) != 0 || !ok)
     {
-        out.close(); // what the destructor would write; exit skips it
         Die(1, "qp-replay: cannot write %s\n", path.c_str());
     }
 }
