@@ -11,7 +11,8 @@ import time
 
 from .machine import REPO, cpus_busy
 
-WAIT_HELP = "before each timed round, wait up to this many seconds for other processes to use less than --quiet-cpus CPUs"
+WAIT_HELP = ("before each timed round, wait up to this many seconds for other processes to use less than "
+             "--quiet-cpus CPUs")
 
 
 def parse_args(doc, full_help, profile_options, more):
