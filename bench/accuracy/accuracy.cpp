@@ -71,23 +71,14 @@ qpbench::Args ParseArgs(int argc, char** argv)
     qpbench::Args args(argc, argv, std::string("qp-accuracy-") + kBuild,
                        {"scene", "size", "seed", "seconds", "hz", "vel-iters", "pos-iters", "threads",
                         "depth", "levels", "check-every", "sample-every", "positions-out"});
-    args.Check(true,
-               "qp-accuracy-%s --scene NAME [options]   (one JSON line on stdout)\n"
-               "  --scene NAME         %s\n"
-               "  --size N             scene size (default: the scene's default)\n"
-               "  --seed S             scene seed (default 1)\n"
-               "  --seconds T          simulated seconds (default 10)\n"
-               "  --hz H               steps per simulated second (default 60)\n"
-               "  --vel-iters V        velocity iterations (default 8)\n"
-               "  --pos-iters P        position iterations (default 3)\n"
-               "  --threads T          pair-generation threads, quadphase and paper builds (default 1)\n"
-               "  --depth D            quadphase build: auto | N | auto+K | auto-K (default auto)\n"
-               "  --levels L           paper build: auto | N | auto+K | auto-K (default auto: leaf about 2 "
-               "fat boxes)\n"
-               "  --check-every K      run the error checks after every K-th step (default 1)\n"
-               "  --sample-every S     positions sampling period in simulated seconds (default 0.5)\n"
-               "  --positions-out F    write the dynamic bodies' positions at every sample time to F\n",
-               kBuild, qs::SceneNameList().c_str());
+    args.Check(
+        true,
+        "usage: qp-accuracy-%s --scene NAME [--size N] [--seed 1] [--seconds 10 (simulated)] [--hz 60]\n"
+        "       [--vel-iters 8] [--pos-iters 3] [--threads 1] [--depth auto|N|auto+K|auto-K (quadphase)]\n"
+        "       [--levels auto|N|auto+K|auto-K (paper)] [--check-every 1] [--sample-every 0.5 (seconds)]\n"
+        "       [--positions-out FILE]: one JSON line on stdout (bench/accuracy/README.md)\n"
+        "scenes: %s\n",
+        kBuild, qs::SceneNameList().c_str());
     return args;
 }
 
