@@ -1,7 +1,7 @@
 // qp-replay: replays a trace (qp-record) through a broadphase and times the broadphase work of each recorded
 // step (definition in replay_common.h): quadphase::QuadtreeBroadPhase (this file; any Config), stock
 // Box2D 2.4.1's b2BroadPhase and the peers (replay_peers.cpp: brute force, the paper's design, Chipmunk2D,
-// Bullet, the oracle floor), or a null engine (the replay loop alone). Also: --triad (the memory floor's
+// Bullet, the oracle floor, and a null engine: the replay loop alone). Also: --triad (the memory floor's
 // bandwidth), --omp-overhead (the cost of a parallel region), --print-config (the core's defaults). Usage:
 // qp-replay --help.
 //

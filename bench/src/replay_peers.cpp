@@ -1,16 +1,17 @@
 // qp-replay's engines other than the quadtree core (replay.cpp): stock Box2D 2.4.1's b2BroadPhase (the
-// reference line and pair sets), brute force, the paper's design, Chipmunk2D, Bullet, and the oracle floor.
-// Same replay and timing definition as the quadtree (replay_common.h). Engine names (--engine):
+// reference line and pair sets), brute force, the paper's design, Chipmunk2D, Bullet, the oracle floor and the
+// null engine. Same replay and timing definition as the quadtree (replay_common.h). Engine names (--engine):
 //
-//   stock                b2BroadPhase; --hashes-out writes its pair-set hashes (the exactness reference)
-//   brute                quadphase::BruteForceBroadPhase (refused above --max-proxies, default 20000)
-//   paper                the paper's design (bench/baselines), levels --levels (auto: leaves about twice the
-//   mean fat
-//                        box), --threads; APPROXIMATE: the check counts its missed, duplicate and extra pairs
-//   cp-hash-xK           Chipmunk2D's cpSpaceHash, cell side K x the mean fat box side (K = 0.5, 1, 2, 4, 8,
-//   ...) cp-tree              Chipmunk2D's cpBBTree bt-dbvt              Bullet's btDbvtBroadphase bt-sap
-//   Bullet's bt32BitAxisSweep3 over the trace's bounds (native mode only, below) oracle               the
-//   output alone: Box2D's protocol with the pairs of every query known in advance
+//   stock       b2BroadPhase; --hashes-out writes its pair-set hashes (the exactness reference)
+//   brute       quadphase::BruteForceBroadPhase (refused above --max-proxies, default 20000)
+//   paper       the paper's design (bench/baselines), levels --levels (auto: leaves about twice the mean fat
+//               box), --threads; APPROXIMATE: the check counts its missed, duplicate and extra pairs
+//   cp-hash-xK  Chipmunk2D's cpSpaceHash, cell side K x the mean fat box side (K = 0.5, 1, 2, 4, 8, ...)
+//   cp-tree     Chipmunk2D's cpBBTree
+//   bt-dbvt     Bullet's btDbvtBroadphase
+//   bt-sap      Bullet's bt32BitAxisSweep3 over the trace's bounds (native mode only, below)
+//   oracle      the output alone: Box2D's protocol with the pairs of every query known in advance
+//   null        nothing: the replay loop's own cost (op dispatch, id map, clock reads); timed runs only
 //
 // Two modes. Box2D's protocol (the names above): the engine keeps Box2D's fat boxes (FattenNew / Refatten,
 // bit-identical to Box2D's) and move buffer, re-indexes a proxy when its fat box changes, and at UpdatePairs
