@@ -66,26 +66,8 @@ struct Options
     qpbench::Die(2, "qp-accuracy-%s: %s\n", kBuild, message.c_str());
 }
 
-qpbench::Args ParseArgs(int argc, char** argv)
-{
-    qpbench::Args args(argc, argv, std::string("qp-accuracy-") + kBuild,
-                       {"scene", "size", "seed", "seconds", "hz", "vel-iters", "pos-iters", "threads",
-                        "depth", "levels", "check-every", "sample-every", "positions-out"});
-    args.Check(
-        true,
-        "usage: qp-accuracy-%s --scene NAME [--size N] [--seed 1] [--seconds 10 (simulated)] [--hz 60]\n"
-        "       [--vel-iters 8] [--pos-iters 3] [--threads 1] [--depth auto|N|auto+K|auto-K (quadphase)]\n"
-        "       [--levels auto|N|auto+K|auto-K (paper)] [--check-every 1] [--sample-every 0.5 (seconds)]\n"
-        "       [--positions-out FILE]: one JSON line on stdout (bench/accuracy/README.md)\n"
-        "scenes: %s\n",
-        kBuild, qs::SceneNameList().c_str());
-    return args;
-}
-
 void CheckOptions(const Options& o)
 {
-    if (o.scene.empty())
-        Fail("--scene is required (" + qs::SceneNameList() + ")");
     if (o.seconds <= 0.0)
         Fail("--seconds must be > 0");
     const double perSample = o.sampleEvery * o.hz;
@@ -164,7 +146,17 @@ const b2Body* TopBody(const b2World& world)
 
 int main(int argc, char** argv)
 {
-    const qpbench::Args args = ParseArgs(argc, argv);
+    const qpbench::Args args(argc, argv, std::string("qp-accuracy-") + kBuild,
+                             {"scene", "size", "seed", "seconds", "hz", "vel-iters", "pos-iters", "threads",
+                              "depth", "levels", "check-every", "sample-every", "positions-out"});
+    args.Check(
+        args.Has("scene"),
+        "usage: qp-accuracy-%s --scene NAME [--size N] [--seed 1] [--seconds 10 (simulated)] [--hz 60]\n"
+        "       [--vel-iters 8] [--pos-iters 3] [--threads 1] [--depth auto|N|auto+K|auto-K (quadphase)]\n"
+        "       [--levels auto|N|auto+K|auto-K (paper)] [--check-every 1] [--sample-every 0.5 (seconds)]\n"
+        "       [--positions-out FILE]: one JSON line on stdout (bench/accuracy/README.md)\n"
+        "scenes: %s\n",
+        kBuild, qs::SceneNameList().c_str());
     const Options o{args};
     CheckOptions(o);
     const std::optional<qs::SceneId> id = qs::ParseSceneName(o.scene);
