@@ -21,7 +21,6 @@ bench/results/{step,phases,replay,replay_phases,peers,queries,circles}.csv, benc
 See bench/README.md for what each number means.
 """
 
-import argparse
 import math
 import os
 import sys
@@ -119,39 +118,29 @@ TOOLS = ("qp-record", "qp-replay", "qp-step-stock", "qp-step-quadtree",
 TEXT = report.prose(os.path.join(HERE, "prose", "bench.md"))  # the report's prose
 
 
+# Options whose default depends on the profile: (option, quick, full, help).
+PROFILE_OPTIONS = [("rounds", 3, 4, "timed rounds"), ("wait-quiet", 3.0, 20.0, run.WAIT_HELP + " (0: never)"),
+                   ("circles-seconds", 10.0, 40.0,
+                    "time cap per circles search at automatic depth (fixed depths get 0.4x)")]
+
+
 def parse_args():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--full", action="store_true",
-                    help="full profile (-O2 and -O3: about 90 min on 2 cores); default quick")
-    ap.add_argument("--build-dir", default=os.path.join(os.path.dirname(HERE), "build-bench"))
-    ap.add_argument("--builds", default=None, help="optimisation levels and their build directories, "
-                    "LEVEL=DIR,LEVEL=DIR (bench/run.sh --opt sets it); default: --build-dir alone")
-    ap.add_argument("--results", default=os.path.join(HERE, "results"), help="CSV, JSON, PNG (default bench/results)")
-    ap.add_argument("--summary", default=os.path.join(HERE, "RESULTS.md"), help="markdown summary (bench/RESULTS.md)")
-    ap.add_argument("--work", default=None, help="traces, raw JSON lines, logs (default BUILD_DIR/tmp/bench)")
-    ap.add_argument("--parts", default=",".join(PARTS), help="subset of " + ",".join(PARTS))
-    ap.add_argument("--rounds", type=int, default=None, help="timed rounds (quick 3, full 4)")
-    ap.add_argument("--seed", type=int, default=1)
-    ap.add_argument("--ccd", default="scene", choices=("scene", "on", "off"),
-                    help="continuous collision in step and phases (default: as the scene has it, Box2D's on)")
-    ap.add_argument("--rerecord", action="store_true", help="record traces even when a matching one exists")
-    ap.add_argument("--wait-quiet", type=float, default=None,
-                    help="wait up to this many seconds before each round for the machine to go quiet "
-                         "(quick 3, full 20; 0: never)")
-    ap.add_argument("--quiet-cpus", type=float, default=0.3)
-    ap.add_argument("--scale", type=float, default=1.0,
-                    help="multiply every scene size by this (development: 0.1 for a smoke test)")
-    ap.add_argument("--circles-seconds", type=float, default=None,
-                    help="time cap per circles search at automatic depth (quick 10, full 40; fixed depths get 0.4x)")
-    ap.add_argument("--frames", action="store_true",
-                    help="only the frames section (about 18 min on 2 cores; --full runs it too): results/frames.*")
-    ap.add_argument("--frame-steps", type=int, default=600, help="--frames: steps per run from the first (600)")
-    ap.add_argument("--report-only", action="store_true", help="rewrite the outputs from the last run's raw results")
-    a = ap.parse_args()
+    def more(ap):
+        ap.add_argument("--builds", default=None, help="optimisation levels and their build directories, "
+                        "LEVEL=DIR,LEVEL=DIR (bench/run.sh --opt sets it); default: --build-dir alone")
+        ap.add_argument("--summary", default=os.path.join(HERE, "RESULTS.md"),
+                        help="markdown summary (bench/RESULTS.md)")
+        ap.add_argument("--parts", default=",".join(PARTS), help="subset of " + ",".join(PARTS))
+        ap.add_argument("--ccd", default="scene", choices=("scene", "on", "off"),
+                        help="continuous collision in step and phases (default: as the scene has it, Box2D's on)")
+        ap.add_argument("--scale", type=float, default=1.0,
+                        help="multiply every scene size by this (development: 0.1 for a smoke test)")
+        ap.add_argument("--frames", action="store_true",
+                        help="only the frames section (about 18 min on 2 cores; --full runs it too): results/frames.*")
+        ap.add_argument("--frame-steps", type=int, default=600, help="--frames: steps per run from the first (600)")
+
+    a = run.parse_args(__doc__, "full profile (-O2 and -O3: about 90 min on 2 cores)", PROFILE_OPTIONS, more)
     a.profile = "full" if a.full else "quick"
-    a.rounds = a.rounds or (4 if a.full else 3)
-    a.wait_quiet = a.wait_quiet if a.wait_quiet is not None else (20.0 if a.full else 3.0)
-    a.circles_seconds = a.circles_seconds or (40.0 if a.full else 10.0)
     a.parts = [p for p in PARTS if p in a.parts.split(",")]
     if a.builds:
         a.levels = [tuple(x.split("=", 1)) for x in a.builds.split(",") if x]

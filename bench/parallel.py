@@ -7,7 +7,6 @@ configuration once, so a noisy phase of the machine hits all of them), and write
 bench/results/parallel.md, parallel.csv and parallel.png. See bench/README.md for what each number means.
 """
 
-import argparse
 import math
 import os
 import sys
@@ -27,39 +26,22 @@ PROFILE_OPTIONS = [("repeats", 7, 11, "timed rounds"), ("table-warmup", 60, 120,
                    ("rain-warmup", 120, 600, "(b) rain warm-up: bodies falling (quick), pile forming (full)"),
                    ("rain-steps", 30, 60, "(b) rain timed steps"),
                    ("sweep-bullets-size", 1000, 2000, "(c) bullets size"),
-                   ("sweep-steps", 60, 120, "(c) sweep timed steps")]
+                   ("sweep-steps", 60, 120, "(c) sweep timed steps"), ("wait-quiet", 20.0, 20.0, run.WAIT_HELP)]
 
 
 def parse_args():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--build-dir", default=os.path.join(os.path.dirname(HERE), "build-bench"),
-                    help="build directory holding bench/qp-* (default: build-bench)")
-    ap.add_argument("--results", default=os.path.join(HERE, "results"),
-                    help="where parallel.md/.csv/.png go (default: bench/results)")
-    ap.add_argument("--work", default=None, help="traces, hashes, logs (default: BUILD_DIR/tmp)")
-    ap.add_argument("--full", action="store_true",
-                    help="longer version: more repeats and steps, rain recorded until its pile has formed")
-    ap.add_argument("--seed", type=int, default=1)
-    ap.add_argument("--sections", default="a,b,c,d,e", help="subset of a,b,c,d,e (default: all)")
-    ap.add_argument("--report-only", action="store_true",
-                    help="only rewrite the report from the last run's raw results in the work directory")
-    ap.add_argument("--rerecord", action="store_true", help="record traces even when a matching one exists")
-    ap.add_argument("--wait-quiet", type=float, default=20.0,
-                    help="before each timed round, wait up to this many seconds for other processes to use "
-                         "less than --quiet-cpus CPUs (default 20; 0: never wait)")
-    ap.add_argument("--quiet-cpus", type=float, default=0.3)
-    for name, quick, full, what in PROFILE_OPTIONS:
-        ap.add_argument("--" + name, type=int, default=None, help=f"{what} (quick {quick}, full {full})")
-    for name, default in (("table-size", 50000), ("particles-size", 100000), ("rain-size", 65536), ("small-size", 200),
-                          ("small-warmup", 60), ("small-steps", 1000), ("sweep-particles-size", 10000),
-                          ("sweep-warmup", 150)):  # sweep-warmup: bullets fires every bullet once in 120 steps
-        ap.add_argument("--" + name, type=int, default=default)
-    ap.add_argument("--depths", default="4,5,6,7,8,9,auto")
-    ap.add_argument("--thresholds", default=",".join(str(t) for t in THRESHOLDS))
-    a = ap.parse_args()
-    for name, quick, full, _ in PROFILE_OPTIONS:
-        if getattr(a, name.replace("-", "_")) is None:
-            setattr(a, name.replace("-", "_"), full if a.full else quick)
+    def more(ap):
+        ap.add_argument("--sections", default="a,b,c,d,e", help="subset of a,b,c,d,e (default: all)")
+        for name, default in (("table-size", 50000), ("particles-size", 100000), ("rain-size", 65536),
+                              ("small-size", 200), ("small-warmup", 60), ("small-steps", 1000),
+                              ("sweep-particles-size", 10000),
+                              ("sweep-warmup", 150)):  # sweep-warmup: bullets fires every bullet once in 120 steps
+            ap.add_argument("--" + name, type=int, default=default)
+        ap.add_argument("--depths", default="4,5,6,7,8,9,auto")
+        ap.add_argument("--thresholds", default=",".join(str(t) for t in THRESHOLDS))
+
+    a = run.parse_args(__doc__, "longer version: more repeats and steps, rain recorded until its pile has formed",
+                       PROFILE_OPTIONS, more)
     a.sections = set(s.strip() for s in a.sections.split(",") if s.strip())
     a.depths = [d.strip() for d in a.depths.split(",") if d.strip()]
     a.thresholds = [int(t) for t in a.thresholds.split(",") if t.strip()]

@@ -41,7 +41,8 @@ namespace qa = quadphase::accuracy;
 // The scenes' per-step hooks (spawning, relaunching) count steps of the scenes' own 60 Hz clock.
 constexpr int kSceneHz = 60;
 
-// The command line; members are read in declaration order, `args` first.
+// The command line; members are read in declaration order, `args` first. An integer outside its range exits
+// (Args::GetIntIn).
 struct Options
 {
     const qpbench::Args& args;
@@ -49,13 +50,13 @@ struct Options
     int size = int(args.GetInt("size", -1));
     uint32_t seed = uint32_t(args.GetInt("seed", 1));
     double seconds = args.GetDouble("seconds", 10.0);
-    int hz = int(args.GetInt("hz", 60));
-    int velocityIterations = int(args.GetInt("vel-iters", 8));
-    int positionIterations = int(args.GetInt("pos-iters", 3));
+    int hz = int(args.GetIntIn("hz", 60, 1, 1000000));
+    int velocityIterations = int(args.GetIntIn("vel-iters", 8, 1, 1000000));
+    int positionIterations = int(args.GetIntIn("pos-iters", 3, 0, 1000000));
     std::string depth = args.Get("depth", "auto");   // quadphase: auto | N | auto+K | auto-K
     std::string levels = args.Get("levels", "auto"); // paper: auto | N | auto+K | auto-K
-    int threads = int(args.GetInt("threads", 1));
-    int checkEvery = int(args.GetInt("check-every", 1));
+    int threads = int(args.GetIntIn("threads", 1, 1, 256));
+    int checkEvery = int(args.GetIntIn("check-every", 1, 1, 1000000));
     double sampleEvery = args.GetDouble("sample-every", 0.5);
     std::string positionsOut = args.Get("positions-out");
 };
@@ -65,45 +66,10 @@ struct Options
     qpbench::Die(2, "qp-accuracy-%s: %s\n", kBuild, message.c_str());
 }
 
-qpbench::Args ParseArgs(int argc, char** argv)
-{
-    qpbench::Args args(argc, argv, std::string("qp-accuracy-") + kBuild,
-                       {"scene", "size", "seed", "seconds", "hz", "vel-iters", "pos-iters", "threads",
-                        "depth", "levels", "check-every", "sample-every", "positions-out"});
-    args.Check(true,
-               "qp-accuracy-%s --scene NAME [options]   (one JSON line on stdout)\n"
-               "  --scene NAME         %s\n"
-               "  --size N             scene size (default: the scene's default)\n"
-               "  --seed S             scene seed (default 1)\n"
-               "  --seconds T          simulated seconds (default 10)\n"
-               "  --hz H               steps per simulated second (default 60)\n"
-               "  --vel-iters V        velocity iterations (default 8)\n"
-               "  --pos-iters P        position iterations (default 3)\n"
-               "  --threads T          pair-generation threads, quadphase and paper builds (default 1)\n"
-               "  --depth D            quadphase build: auto | N | auto+K | auto-K (default auto)\n"
-               "  --levels L           paper build: auto | N | auto+K | auto-K (default auto: leaf about 2 "
-               "fat boxes)\n"
-               "  --check-every K      run the error checks after every K-th step (default 1)\n"
-               "  --sample-every S     positions sampling period in simulated seconds (default 0.5)\n"
-               "  --positions-out F    write the dynamic bodies' positions at every sample time to F\n",
-               kBuild, qs::SceneNameList().c_str());
-    return args;
-}
-
 void CheckOptions(const Options& o)
 {
-    if (o.scene.empty())
-        Fail("--scene is required (" + qs::SceneNameList() + ")");
     if (o.seconds <= 0.0)
         Fail("--seconds must be > 0");
-    if (o.hz <= 0)
-        Fail("--hz must be > 0");
-    if (o.velocityIterations < 1 || o.positionIterations < 0)
-        Fail("--vel-iters must be >= 1 and --pos-iters >= 0");
-    if (o.threads < 1)
-        Fail("--threads must be >= 1");
-    if (o.checkEvery < 1)
-        Fail("--check-every must be >= 1");
     const double perSample = o.sampleEvery * o.hz;
     if (o.sampleEvery <= 0.0 || std::fabs(perSample - std::round(perSample)) > 1e-9 ||
         std::round(perSample) < 1)
@@ -180,7 +146,17 @@ const b2Body* TopBody(const b2World& world)
 
 int main(int argc, char** argv)
 {
-    const qpbench::Args args = ParseArgs(argc, argv);
+    const qpbench::Args args(argc, argv, std::string("qp-accuracy-") + kBuild,
+                             {"scene", "size", "seed", "seconds", "hz", "vel-iters", "pos-iters", "threads",
+                              "depth", "levels", "check-every", "sample-every", "positions-out"});
+    args.Check(
+        args.Has("scene"),
+        "usage: qp-accuracy-%s --scene NAME [--size N] [--seed 1] [--seconds 10 (simulated)] [--hz 60]\n"
+        "       [--vel-iters 8] [--pos-iters 3] [--threads 1] [--depth auto|N|auto+K|auto-K (quadphase)]\n"
+        "       [--levels auto|N|auto+K|auto-K (paper)] [--check-every 1] [--sample-every 0.5 (seconds)]\n"
+        "       [--positions-out FILE]: one JSON line on stdout (bench/accuracy/README.md)\n"
+        "scenes: %s\n",
+        kBuild, qs::SceneNameList().c_str());
     const Options o{args};
     CheckOptions(o);
     const std::optional<qs::SceneId> id = qs::ParseSceneName(o.scene);

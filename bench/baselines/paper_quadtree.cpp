@@ -29,18 +29,9 @@ Box CheckedBounds(const Box& bounds)
 
 omp_sched_t OmpKind(Schedule schedule)
 {
-    switch (schedule)
-    {
-    case Schedule::Static:
-        return omp_sched_static;
-    case Schedule::Dynamic:
-        return omp_sched_dynamic;
-    case Schedule::Guided:
-        return omp_sched_guided;
-    case Schedule::Auto:
-        return omp_sched_auto;
-    }
-    return omp_sched_static;
+    // Indexed by Schedule: Static, Dynamic, Guided, Auto.
+    const omp_sched_t kinds[] = {omp_sched_static, omp_sched_dynamic, omp_sched_guided, omp_sched_auto};
+    return kinds[int(schedule)];
 }
 
 Pair Ordered(ProxyId a, ProxyId b)
@@ -181,7 +172,7 @@ namespace
 template <typename Emit>
 void ProcessLeaf(const std::vector<ProxyId>& objects, const Box& leafBox, int32_t leafIndex, int32_t side,
                  const std::vector<const std::vector<ProxyId>*>& leafObjects, const ProxyPool& pool,
-                 Emit&& emit, int64_t& tests)
+                 Emit&& emit)
 {
     const int32_t row = leafIndex / side;
     const int32_t column = leafIndex % side;
@@ -192,8 +183,9 @@ void ProcessLeaf(const std::vector<ProxyId>& objects, const Box& leafBox, int32_
         const Box& fa = pool.Fat(a);
         const bool cross[4] = {
             fa.minY < leafBox.minY && row > 0,
-            fa.maxY > leafBox.maxY &&
-                row<side - 1, fa.minX<leafBox.minX && column> 0, fa.maxX> leafBox.maxX && column < side - 1,
+            fa.maxY > leafBox.maxY && (row < side - 1),
+            fa.minX < leafBox.minX && (column > 0),
+            fa.maxX > leafBox.maxX && column < side - 1,
         };
         const int32_t neighbour[4] = {leafIndex - side, leafIndex + side, leafIndex - 1, leafIndex + 1};
         for (int e = 0; e < 4; ++e)
@@ -204,7 +196,6 @@ void ProcessLeaf(const std::vector<ProxyId>& objects, const Box& leafBox, int32_
             }
             for (ProxyId b : *leafObjects[size_t(neighbour[e])])
             {
-                ++tests;
                 if (Overlaps(fa, pool.Fat(b)))
                 {
                     emit(a, b);
@@ -214,7 +205,6 @@ void ProcessLeaf(const std::vector<ProxyId>& objects, const Box& leafBox, int32_
         for (size_t j = i + 1; j < count; ++j)
         {
             const ProxyId b = objects[j];
-            ++tests;
             if (Overlaps(fa, pool.Fat(b)))
             {
                 emit(a, b);
@@ -224,73 +214,16 @@ void ProcessLeaf(const std::vector<ProxyId>& objects, const Box& leafBox, int32_
 }
 } // namespace
 
+// The paper's frame in one parallel region, as in the author's code: insertion as an OpenMP loop
+// (schedule(static)) with a lock per leaf; then the loop over leaves with the chosen schedule, every pair pushed
+// into the one shared vector under the one pair lock; then the paper's clearTree. One thread is the paper's
+// sequential quadtree ("Seq." in its tables): the region is inactive (no team), insertion still goes through the
+// leaf locks (its Box::addParticle), pairs are pushed without the pair lock.
 void PaperQuadtreeBroadPhase::FindPairs(std::vector<Pair>& out)
 {
     // flags the buffered proxies "in work" for the Buffered filter, clears the buffer
     m_pool.LendBuffer(m_work);
     const int threads = m_threads > 0 ? m_threads : omp_get_max_threads();
-    if (threads <= 1)
-    {
-        RunSequential(out);
-    }
-    else
-    {
-        RunParallel(out, threads);
-    }
-    // The paper's clearTree, after the pairs are found.
-    for (int32_t node : m_leaves)
-    {
-        m_nodes[size_t(node)].objects.clear();
-    }
-    m_pool.ReturnBuffer(m_work);
-}
-
-// The paper's sequential quadtree ("Seq." in its tables): no parallel region; insertion still goes through the
-// leaf lock (its Box::addParticle), pairs are pushed without the pair lock.
-void PaperQuadtreeBroadPhase::RunSequential(std::vector<Pair>& out)
-{
-    for (ProxyId id = 0; id < m_pool.IdBound(); ++id)
-    {
-        if (m_pool.IsLive(id))
-        {
-            Node& leaf = m_nodes[size_t(Descend(m_pool.Fat(id)))];
-            omp_lock_t& lock = m_locks->leaf[size_t(leaf.leafIndex)];
-            omp_set_lock(&lock);
-            leaf.objects.push_back(id);
-            omp_unset_lock(&lock);
-        }
-    }
-
-    std::vector<const std::vector<ProxyId>*> leafObjects(m_leaves.size());
-    for (size_t i = 0; i < m_leaves.size(); ++i)
-    {
-        leafObjects[i] = &m_nodes[size_t(m_leaves[i])].objects;
-    }
-    const bool filter = m_report == PaperPairReport::Buffered;
-    int64_t tests = 0;
-    int64_t found = 0;
-    auto emit = [&](ProxyId a, ProxyId b) {
-        ++found;
-        if (!filter || m_pool.InWork(a) || m_pool.InWork(b))
-        {
-            out.push_back(Ordered(a, b));
-        }
-    };
-    const int32_t leafCount = int32_t(m_leaves.size());
-    for (int32_t li = 0; li < leafCount; ++li)
-    {
-        const Node& leaf = m_nodes[size_t(m_leaves[size_t(li)])];
-        ProcessLeaf(leaf.objects, leaf.box, li, m_leafSide, leafObjects, m_pool, emit, tests);
-    }
-    m_lastTests = tests;
-    m_lastFound = found;
-}
-
-// The paper's parallel quadtree: one parallel region; insertion as an OpenMP loop (schedule(static)) with a lock
-// per leaf; then the loop over leaves with the chosen schedule, every pair pushed into the one shared vector under
-// the one pair lock.
-void PaperQuadtreeBroadPhase::RunParallel(std::vector<Pair>& out, int threads)
-{
     std::vector<const std::vector<ProxyId>*> leafObjects(m_leaves.size());
     for (size_t i = 0; i < m_leaves.size(); ++i)
     {
@@ -306,10 +239,8 @@ void PaperQuadtreeBroadPhase::RunParallel(std::vector<Pair>& out, int threads)
     const ProxyId idBound = m_pool.IdBound();
     const int32_t leafCount = int32_t(m_leaves.size());
     Locks& locks = *m_locks;
-    int64_t tests = 0;
-    int64_t found = 0;
 
-#pragma omp parallel num_threads(threads) reduction(+ : tests, found)
+#pragma omp parallel num_threads(threads) if (threads > 1)
     {
 #pragma omp for schedule(static)
         for (ProxyId id = 0; id < idBound; ++id)
@@ -326,25 +257,33 @@ void PaperQuadtreeBroadPhase::RunParallel(std::vector<Pair>& out, int threads)
         // (implicit barrier: every object is inserted before any leaf is searched)
 
         auto emit = [&](ProxyId a, ProxyId b) {
-            ++found;
             if (!filter || m_pool.InWork(a) || m_pool.InWork(b))
             {
-                omp_set_lock(&locks.pairs);
+                if (threads > 1)
+                {
+                    omp_set_lock(&locks.pairs);
+                }
                 out.push_back(Ordered(a, b));
-                omp_unset_lock(&locks.pairs);
+                if (threads > 1)
+                {
+                    omp_unset_lock(&locks.pairs);
+                }
             }
         };
 #pragma omp for schedule(runtime)
         for (int32_t li = 0; li < leafCount; ++li)
         {
             const Node& leaf = m_nodes[size_t(m_leaves[size_t(li)])];
-            ProcessLeaf(leaf.objects, leaf.box, li, m_leafSide, leafObjects, m_pool, emit, tests);
+            ProcessLeaf(leaf.objects, leaf.box, li, m_leafSide, leafObjects, m_pool, emit);
         }
     }
 
     omp_set_schedule(previousKind, previousChunk); // the schedule ICV belongs to the caller's thread
-    m_lastTests = tests;
-    m_lastFound = found;
+    for (int32_t node : m_leaves)
+    {
+        m_nodes[size_t(node)].objects.clear();
+    }
+    m_pool.ReturnBuffer(m_work);
 }
 
 void PaperQuadtreeBroadPhase::ShiftOrigin(Vec2 newOrigin)

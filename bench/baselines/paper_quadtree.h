@@ -55,8 +55,8 @@ public:
 
     /// `levels` is clamped to [kMinLevels, kMaxLevels]. `bounds` is the fixed region (the paper used the window);
     /// an empty, inverted or non-finite region is reported (ErrorCode::InvertedBox / NonFiniteBox) and replaced by
-    /// Config's default bounds. `threads`: 0 = OpenMP's own setting, 1 = the paper's sequential quadtree (no
-    /// parallel region, no pair lock), n >= 2 = a team of n. `schedule` is the leaf loop's OpenMP schedule
+    /// Config's default bounds. `threads`: 0 = OpenMP's own setting, 1 = the paper's sequential quadtree (an
+    /// inactive parallel region, no pair lock), n >= 2 = a team of n. `schedule` is the leaf loop's OpenMP schedule
     /// (Static, Dynamic, Guided as compared in the paper; Auto is not from the paper), with OpenMP's default chunk.
     PaperQuadtreeBroadPhase(int levels, const Box& bounds, int threads = 0,
                             Schedule schedule = Schedule::Static,
@@ -77,10 +77,6 @@ public:
 
     int GetLevels() const { return m_levels; }
 
-    /// Counters of the last FindPairs: overlap tests made, and pairs found (before the Buffered filter).
-    int64_t GetLastTests() const { return m_lastTests; }
-    int64_t GetLastFound() const { return m_lastFound; }
-
 private:
     struct Node
     {
@@ -96,8 +92,6 @@ private:
     void Generate(int32_t node, int remainingLevels, std::vector<int32_t>& creationOrder);
     void Linearize(const std::vector<int32_t>& creationOrder);
     int32_t Descend(const Box& fat) const;
-    void RunSequential(std::vector<Pair>& out);
-    void RunParallel(std::vector<Pair>& out, int threads);
 
     PaperPairReport m_report;
     int m_levels;
@@ -108,8 +102,6 @@ private:
     std::vector<Node> m_nodes;     // m_nodes[0] is the root
     std::vector<int32_t> m_leaves; // node index of each leaf, row-major after Linearize (the paper's `leafs`)
     std::unique_ptr<Locks> m_locks;
-    int64_t m_lastTests = 0;
-    int64_t m_lastFound = 0;
 };
 
 } // namespace bench

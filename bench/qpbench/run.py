@@ -1,6 +1,7 @@
 """Running the benchmark tools: one log and one JSON-lines file per run, quiet-waits before rounds, trace recording
 (reused when a matching trace exists), shuffled orders and a progress bar."""
 
+import argparse
 import json
 import os
 import random
@@ -8,7 +9,34 @@ import subprocess
 import sys
 import time
 
-from .machine import cpus_busy
+from .machine import REPO, cpus_busy
+
+WAIT_HELP = ("before each timed round, wait up to this many seconds for other processes to use less than "
+             "--quiet-cpus CPUs")
+
+
+def parse_args(doc, full_help, profile_options, more):
+    """The command line of a benchmark script: the options every script has, its own (more(ap) adds them) and its
+    profile options ((option, quick, full, help): one left out takes the value of the profile, quick or --full)."""
+    ap = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--full", action="store_true", help=full_help + "; default: the quick profile")
+    ap.add_argument("--build-dir", default=os.path.join(REPO, "build-bench"),
+                    help="build directory holding bench/qp-* (default: build-bench)")
+    ap.add_argument("--results", default=os.path.join(REPO, "bench", "results"),
+                    help="where the reports, CSV, JSON and PNG go (default: bench/results)")
+    ap.add_argument("--work", default=None, help="traces, raw results, logs (default: under BUILD_DIR/tmp)")
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--report-only", action="store_true", help="rewrite the outputs from the last run's raw results")
+    ap.add_argument("--rerecord", action="store_true", help="record traces even when a matching one exists")
+    ap.add_argument("--quiet-cpus", type=float, default=0.3)
+    for name, quick, full, what in profile_options:
+        ap.add_argument("--" + name, type=type(quick), default=None, help=f"{what} (quick {quick}, full {full})")
+    more(ap)
+    a = ap.parse_args()
+    for name, quick, full, _ in profile_options:
+        if getattr(a, name.replace("-", "_")) is None:
+            setattr(a, name.replace("-", "_"), full if a.full else quick)
+    return a
 
 
 class Runner:

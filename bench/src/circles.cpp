@@ -246,14 +246,18 @@ private:
     std::vector<std::pair<int32_t, int32_t>> m_list;
 };
 
+// The command line; members are read in declaration order, `args` first.
 struct Settings
 {
-    std::string engine;
-    int threads = 1;
-    int depth = -1; // -1: auto
-    double budgetMs = 20.0;
-    int repeats = 3, frames = 10, warmup = 20;
-    uint32_t seed = 1;
+    const Args& args;
+    std::string engine = args.Get("engine");
+    int threads = int(args.GetInt("threads", 1));
+    std::string depthArg = args.Get("depth", "auto");
+    int depth = depthArg == "auto" ? -1 : std::atoi(depthArg.c_str()); // -1: auto
+    double budgetMs = args.GetDouble("budget-ms", 20.0);
+    int repeats = int(args.GetInt("repeats", 3)), frames = int(args.GetInt("frames", 10));
+    int warmup = int(args.GetInt("warmup", 20));
+    uint32_t seed = uint32_t(args.GetInt("seed", 1));
 };
 
 std::unique_ptr<Detector> Make(const Settings& s, const Circles& c)
@@ -327,26 +331,17 @@ int main(int argc, char** argv)
     const Args args(argc, argv, "qp-circles",
                     {"engine", "threads", "depth", "budget-ms", "repeats", "frames", "warmup", "start",
                      "precision", "max-seconds", "max-n", "seed", "json", "label"});
-    const std::string engine = args.Get("engine");
+    const Settings s{args};
     const bool knownEngine =
-        engine == "pairwise" || engine == "paper" || engine == "stock" || engine == "quadtree";
+        s.engine == "pairwise" || s.engine == "paper" || s.engine == "stock" || s.engine == "quadtree";
     if (!knownEngine && args.Has("engine"))
     {
-        std::fprintf(stderr, "qp-circles: unknown engine '%s'\n", engine.c_str());
+        std::fprintf(stderr, "qp-circles: unknown engine '%s'\n", s.engine.c_str());
     }
     args.Check(knownEngine,
                "usage: qp-circles --engine pairwise|paper|stock|quadtree [--threads T] [--depth D|auto]\n"
                "       [--budget-ms 20] [--repeats 3] [--frames 10] [--warmup 20] [--start 1000]\n"
                "       [--precision 0.03] [--max-seconds 60] [--max-n N] [--seed S] [--json FILE]\n");
-    const std::string depth = args.Get("depth", "auto");
-    const Settings s{engine,
-                     int(args.GetInt("threads", 1)),
-                     depth == "auto" ? -1 : std::atoi(depth.c_str()),
-                     args.GetDouble("budget-ms", 20.0),
-                     int(args.GetInt("repeats", 3)),
-                     int(args.GetInt("frames", 10)),
-                     int(args.GetInt("warmup", 20)),
-                     uint32_t(args.GetInt("seed", 1))};
     const double precision = args.GetDouble("precision", 0.03);
     const double maxSeconds = args.GetDouble("max-seconds", 60.0);
     const long maxN = args.GetInt("max-n", 4000000);
@@ -422,7 +417,7 @@ int main(int argc, char** argv)
                            .Num("seconds", elapsed());
     AppendLine(jsonPath, j.Text());
     std::printf("%s threads=%d depth=%s: %ld circles under %.1f ms per frame%s (%d evaluations, %.0f s)\n",
-                s.engine.c_str(), s.threads, depth.c_str(), lo, s.budgetMs, capped ? " (capped)" : "",
+                s.engine.c_str(), s.threads, s.depthArg.c_str(), lo, s.budgetMs, capped ? " (capped)" : "",
                 evaluations, elapsed());
     return 0;
 }

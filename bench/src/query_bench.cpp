@@ -300,35 +300,24 @@ public:
         return c;
     }
 
-    /// The floor of Query: b2World::QueryAABB's per-proxy work (b2WorldQueryWrapper, less GetUserData) and
-    /// the callback, over the recorded candidates.
-    static void QueryFloor(const Candidates& c, Hits& hits)
+    /// The floor of Query (rays null) or of Cast(rays, false): b2World::QueryAABB's or RayCast's per-proxy work
+    /// (b2WorldQueryWrapper or b2WorldRayCastWrapper, less GetUserData) and the callback, over the recorded
+    /// candidates.
+    static void Floor(const std::vector<Ray>* rays, const Candidates& c, Hits& hits)
     {
         AllQuery callback(hits);
         size_t begin = 0;
-        for (size_t end : c.ends)
+        for (size_t q = 0; q < c.ends.size(); ++q)
         {
-            for (size_t i = begin; i < end; ++i)
-            {
-                callback.ReportFixture(c.proxies[i]->fixture);
-            }
-            hits.ends.push_back(hits.ids.size());
-            begin = end;
-        }
-    }
-
-    /// The floor of Cast(rays, false): b2World::RayCast's per-proxy work (b2WorldRayCastWrapper, less
-    /// GetUserData) and the callback, over the recorded candidates.
-    static void CastFloor(const std::vector<Ray>& rays, const Candidates& c, Hits& hits)
-    {
-        AllQuery callback(hits);
-        size_t begin = 0;
-        for (size_t r = 0; r < rays.size(); ++r)
-        {
-            const b2RayCastInput input{rays[r].p1, rays[r].p2, 1.0f};
-            for (size_t i = begin; i < c.ends[r]; ++i)
+            for (size_t i = begin; i < c.ends[q]; ++i)
             {
                 b2Fixture* fixture = c.proxies[i]->fixture;
+                if (rays == nullptr)
+                {
+                    callback.ReportFixture(fixture);
+                    continue;
+                }
+                const b2RayCastInput input{(*rays)[q].p1, (*rays)[q].p2, 1.0f};
                 b2RayCastOutput output;
                 if (fixture->RayCast(&output, input, c.proxies[i]->childIndex))
                 {
@@ -338,7 +327,7 @@ public:
                 }
             }
             hits.ends.push_back(hits.ids.size());
-            begin = c.ends[r];
+            begin = c.ends[q];
         }
     }
 
@@ -423,31 +412,20 @@ int main(int argc, char** argv)
 
     // The floors (after the workloads, before the teleport moves anything): candidates recorded untimed, then
     // timed like the workloads. Each must give its workload's hits, or it is not that workload's output.
-    const Candidates boxCandidates = bench.Record(boxes, nullptr);
-    run("aabb_small_floor", int64_t(boxes.size()), [&](Hits& h) { Bench::QueryFloor(boxCandidates, h); });
-    for (const auto& [name, rays] :
-         {std::make_pair("ray_short_all_floor", &shortRays), std::make_pair("ray_axis_all_floor", &axisRays),
-          std::make_pair("ray_diag_all_floor", &diagRays)})
-    {
+    const auto floor = [&](const std::string& of, const std::vector<Ray>* rays) {
         const Candidates c = bench.Record(boxes, rays);
-        run(name, int64_t(rays->size()), [&](Hits& h) { Bench::CastFloor(*rays, c, h); });
-    }
-    const std::string suffix = "_floor";
-    for (const Workload& floor : work)
-    {
-        const size_t at = floor.name.size() - std::min(floor.name.size(), suffix.size());
-        if (floor.name.compare(at, std::string::npos, suffix) != 0)
+        run((of + "_floor").c_str(), int64_t(c.ends.size()), [&](Hits& h) { Bench::Floor(rays, c, h); });
+        const auto w =
+            std::find_if(work.begin(), work.end(), [&](const Workload& x) { return x.name == of; });
+        if (HashHits(w->hits) != HashHits(work.back().hits))
         {
-            continue;
+            Die(3, "qp-query: %s_floor does not give the hits of %s\n", of.c_str(), of.c_str());
         }
-        const std::string base = floor.name.substr(0, at);
-        const auto of =
-            std::find_if(work.begin(), work.end(), [&](const Workload& w) { return w.name == base; });
-        if (of == work.end() || HashHits(of->hits) != HashHits(floor.hits))
-        {
-            Die(3, "qp-query: %s does not give the hits of %s\n", floor.name.c_str(), base.c_str());
-        }
-    }
+    };
+    floor("aabb_small", nullptr);
+    floor("ray_short_all", &shortRays);
+    floor("ray_axis_all", &axisRays);
+    floor("ray_diag_all", &diagRays);
 
     // Teleport: a new random choice of bodies and places per repeat (drawn before its clock starts), then the
     // step.

@@ -1,7 +1,7 @@
 // qp-replay: replays a trace (qp-record) through a broadphase and times the broadphase work of each recorded
 // step (definition in replay_common.h): quadphase::QuadtreeBroadPhase (this file; any Config), stock
 // Box2D 2.4.1's b2BroadPhase and the peers (replay_peers.cpp: brute force, the paper's design, Chipmunk2D,
-// Bullet, the oracle floor), or a null engine (the replay loop alone). Also: --triad (the memory floor's
+// Bullet, the oracle floor, and a null engine: the replay loop alone). Also: --triad (the memory floor's
 // bandwidth), --omp-overhead (the cost of a parallel region), --print-config (the core's defaults). Usage:
 // qp-replay --help.
 //
@@ -85,33 +85,6 @@ std::string Describe(const Config& c)
                   c.depth < 0 ? "auto" : std::to_string(c.depth).c_str(), c.parallelThreshold);
     return buf;
 }
-
-// ---------------------------------------------------------------------------------------------------------------
-// Engines.
-// ---------------------------------------------------------------------------------------------------------------
-
-/// Does nothing: measures the replay loop's own cost (op dispatch, id map, clock reads).
-class NullEngine
-{
-public:
-    int32_t Create(const Box&, int32_t recorded)
-    {
-        ++m_live;
-        return recorded;
-    }
-    void Destroy(int32_t) { --m_live; }
-    void Move(int32_t, const Box&, Vec2) {}
-    void Touch(int32_t) {}
-    void UpdatePairs() {}
-    void ShiftOrigin(Vec2) {}
-    int32_t ProxyCount() const { return m_live; }
-    size_t PairCount() const { return 0; }
-    void PairKeys(std::vector<uint64_t>&) const {}
-    void BeginTimedSteps() {}
-
-private:
-    int32_t m_live = 0;
-};
 
 // ---------------------------------------------------------------------------------------------------------------
 // Query statistics for the checking run (timed steps only).
@@ -232,24 +205,23 @@ double TriadBytesPerSecond(size_t n, int repeats)
 int main(int argc, char** argv)
 {
     const Args args(argc, argv, "qp-replay",
-                    {"trace", "steps-file", "threads", "schedule", "chunk", "depth", "threshold", "config",
-                     "repeats", "check", "hashes-out", "compare-hashes", "engine", "json", "label", "levels",
+                    {"trace", "threads", "schedule", "chunk", "depth", "threshold", "config", "repeats",
+                     "check", "hashes-out", "compare-hashes", "engine", "json", "label", "levels",
                      "max-proxies"},
-                    {"brute", "omp-overhead", "force-brute", "per-call", "print-config", "triad"});
-    args.Check(args.Has("trace") || args.Has("omp-overhead") || args.Has("print-config") || args.Has("triad"),
-               "usage: qp-replay --trace FILE [--steps-file FILE] [--engine NAME] [--repeats R]"
-               " [--check none|first|all]\n"
-               "                 [--hashes-out FILE] [--compare-hashes FILE] [--json FILE] [--label TEXT]\n"
-               "  quadtree (default): [--threads N] [--schedule static|dynamic|guided|auto] [--chunk C]"
-               " [--depth D|auto]\n"
-               "                 [--threshold T] [--config k=v,k=v]... [--brute] [--per-call]\n"
-               "  null: the replay loop alone; stock, brute, paper ([--levels L|auto] [--threads N]),"
-               " oracle, cp-hash-xK,\n"
-               "  cp-tree, bt-dbvt, and -native[-mM] modes of cp-hash-xK, cp-tree, bt-dbvt, bt-sap"
-               " (replay_peers.cpp)\n"
-               "  qp-replay --omp-overhead | --triad | --print-config\n"
-               "available here: stock brute paper oracle%s%s\n",
-               QP_HAVE_CHIPMUNK ? " cp-hash cp-tree" : "", QP_HAVE_BULLET ? " bt-dbvt bt-sap" : "");
+                    {"brute", "omp-overhead", "per-call", "print-config", "triad"});
+    args.Check(
+        args.Has("trace") || args.Has("omp-overhead") || args.Has("print-config") || args.Has("triad"),
+        "usage: qp-replay --trace FILE [--engine NAME] [--repeats R] [--check none|first|all]\n"
+        "                 [--hashes-out FILE] [--compare-hashes FILE] [--json FILE] [--label TEXT]\n"
+        "  quadtree (default): [--threads N] [--schedule static|dynamic|guided|auto] [--chunk C]\n"
+        "                 [--depth D|auto] [--threshold T] [--config k=v,k=v]... [--per-call]\n"
+        "                 [--brute [--max-proxies N]]\n"
+        "  null: the replay loop alone; stock, brute ([--max-proxies N]), paper ([--levels L|auto]\n"
+        "  [--threads N]), oracle, cp-hash-xK, cp-tree, bt-dbvt, and -native[-mM] modes of cp-hash-xK,\n"
+        "  cp-tree, bt-dbvt, bt-sap (replay_peers.cpp)\n"
+        "  qp-replay --omp-overhead | --triad | --print-config\n"
+        "available here: stock brute paper oracle%s%s\n",
+        QP_HAVE_CHIPMUNK ? " cp-hash cp-tree" : "", QP_HAVE_BULLET ? " bt-dbvt bt-sap" : "");
     if (args.Has("print-config"))
     {
         // The core's defaults, for scripts (bench/parallel.py reads the default parallelThreshold).
@@ -302,7 +274,7 @@ int main(int argc, char** argv)
     }
 
     LoadedTrace loaded;
-    LoadOrDie(args.Get("trace"), args.Get("steps-file"), loaded);
+    LoadOrDie(args.Get("trace"), loaded);
     const StepIndex& index = loaded.steps;
     std::printf("trace %s: scene %s size %d, %zu ops, %lld UpdatePairs calls, %d warm-up + %d timed steps, "
                 "%lld proxies at the end\n",
@@ -352,7 +324,7 @@ int main(int argc, char** argv)
             .Int("warmup", index.warmup);
         return j;
     };
-    if (engineName != "quadtree" && engineName != "null")
+    if (engineName != "quadtree")
     {
         return RunPeer(PeerRun{args, loaded, engineName, [&](const char* kind) {
                                    JsonLine j = baseJson(kind);
@@ -368,22 +340,6 @@ int main(int argc, char** argv)
             .Int("threshold", c.parallelThreshold);
     };
 
-    if (engineName == "null")
-    {
-        for (int r = 0; r < repeats; ++r)
-        {
-            NullEngine engine;
-            const RunResult result = Replay(loaded, engine);
-            JsonLine j = baseJson("run");
-            j.Str("engine", "null").Int("rep", r);
-            AddRun(j, result);
-            AppendLine(jsonPath, j.Text());
-            std::printf("null engine rep %d: %.3f ms per step (replay loop overhead)\n", r,
-                        double(result.Total(&StepSample::ns)) / index.steps * 1e-6);
-        }
-        return 0;
-    }
-
     int64_t mismatches = 0;
     // Untimed checking runs.
     if (check != "none")
@@ -391,9 +347,9 @@ int main(int argc, char** argv)
         std::vector<CallHash> brute;
         if (args.Has("brute"))
         {
-            if (index.proxies > 20000 && !args.Has("force-brute"))
+            if (index.proxies > args.GetInt("max-proxies", 20000))
             {
-                Die(2, "qp-replay: --brute on %lld proxies would take too long (--force-brute)\n",
+                Die(2, "qp-replay: --brute on %lld proxies would take too long (--max-proxies)\n",
                     static_cast<long long>(index.proxies));
             }
             CoreEngine<quadphase::BruteForceBroadPhase> engine;
@@ -473,60 +429,46 @@ int main(int argc, char** argv)
     }
 
     // Timed runs: configurations interleaved within each round.
-    std::vector<std::vector<double>> perConfigMs(configs.size()), perConfigFindMs(configs.size());
-    std::vector<double> meanProxies(configs.size(), 0.0), pairsPerStep(configs.size(), 0.0);
+    using Quadtree = CoreEngine<quadphase::QuadtreeBroadPhase>;
+    std::vector<Timings> timings;
+    for (const Config& c : configs)
+    {
+        timings.push_back(Timings{Describe(c), {}, {}});
+    }
     for (int r = 0; r < repeats; ++r)
     {
         for (size_t ci = 0; ci < configs.size(); ++ci)
         {
             const Config& c = configs[ci];
-            const int64_t heap0 = HeapBytes();
-            auto engine =
-                std::make_unique<CoreEngine<quadphase::QuadtreeBroadPhase>>(quadphase::FatPolicy{}, c);
-            const RunResult result = Replay(loaded, *engine);
-            // What the engine holds after the whole trace (HeapBytes).
-            const int64_t heap = HeapBytes() - heap0;
-            const quadphase::Stats st = engine->Get().GetStats();
             JsonLine j = baseJson("run");
             j.Str("engine", "quadtree");
             configJson(j, c);
-            // updateSeconds: the time the core itself booked as grid maintenance during the timed steps
-            // (MoveProxy timing is off, so with deferred maintenance this is the batched re-placement inside
-            // FindPairs).
-            j.Int("rep", r)
-                .Int("depth_used", st.depth)
-                .Int("parallel_calls", st.parallelCalls)
-                .Int("reinserts", st.reinserts)
-                .Int("proxies_queried", st.proxiesQueried)
-                .Int("rebuilds", st.rebuilds)
-                .Num("replace_s", st.updateSeconds)
-                .Int("heap_bytes", heap)
-                .Num("bytes_per_proxy", double(heap) / std::max(1, engine->ProxyCount()));
-            AddRun(j, result);
-            if (perCall)
-            {
-                j.Array("calls_ns", result.callNs);
-            }
-            AppendLine(jsonPath, j.Text());
-            const auto perStep = [&](auto field) {
-                return double(result.Total(field)) / index.steps;
+            const auto make = [&] {
+                return std::make_unique<Quadtree>(quadphase::FatPolicy{}, c);
             };
-            perConfigMs[ci].push_back(perStep(&StepSample::ns) * 1e-6);
-            perConfigFindMs[ci].push_back(perStep(&StepSample::findNs) * 1e-6);
-            meanProxies[ci] = perStep(&StepSample::proxies);
-            pairsPerStep[ci] = perStep(&StepSample::pairs);
+            TimedRun(
+                loaded, jsonPath, j, timings[ci], make,
+                [&](JsonLine& line, Quadtree& engine, const RunResult& result) {
+                    const quadphase::Stats st = engine.Get().GetStats();
+                    // updateSeconds: the time the core itself booked as grid maintenance during the timed steps
+                    // (MoveProxy timing is off, so with deferred maintenance this is the batched re-placement inside
+                    // FindPairs).
+                    line.Int("depth_used", st.depth)
+                        .Int("parallel_calls", st.parallelCalls)
+                        .Int("reinserts", st.reinserts)
+                        .Int("proxies_queried", st.proxiesQueried)
+                        .Int("rebuilds", st.rebuilds)
+                        .Num("replace_s", st.updateSeconds);
+                    if (perCall)
+                    {
+                        line.Array("calls_ns", result.callNs);
+                    }
+                });
         }
     }
-    if (repeats > 0)
+    for (const Timings& t : timings)
     {
-        std::printf("%-62s %10s %10s %12s %12s\n", "configuration (median of repeats)", "ms/step", "find ms",
-                    "ns/proxy/step", "pairs/step");
-    }
-    for (size_t ci = 0; repeats > 0 && ci < configs.size(); ++ci)
-    {
-        const double ms = Median(perConfigMs[ci]);
-        std::printf("%-62s %10.3f %10.3f %12.1f %12.0f\n", Describe(configs[ci]).c_str(), ms,
-                    Median(perConfigFindMs[ci]), ms * 1e6 / std::max(1.0, meanProxies[ci]), pairsPerStep[ci]);
+        t.PrintMedians();
     }
     if (mismatches != 0)
     {

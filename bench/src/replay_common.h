@@ -204,19 +204,18 @@ inline CallHash HashPairKeys(std::vector<uint64_t>& keys)
 /// cannot.
 inline void SaveHashesOrDie(const std::string& path, const std::vector<CallHash>& hashes)
 {
-    std::ofstream out(path);
-    out << "# qp-pairhash 1: call unique_pairs fnv1a64(sorted unique pairs in recorded ids)\n";
-    for (size_t i = 0; i < hashes.size(); ++i)
+    std::FILE* out = std::fopen(path.c_str(), "w");
+    bool ok =
+        out != nullptr &&
+        std::fprintf(out,
+                     "# qp-pairhash 1: call unique_pairs fnv1a64(sorted unique pairs in recorded ids)\n") > 0;
+    for (size_t i = 0; ok && i < hashes.size(); ++i)
     {
-        char buf[96];
-        std::snprintf(buf, sizeof(buf), "%zu %llu %016llx\n", i,
-                      static_cast<unsigned long long>(hashes[i].count),
-                      static_cast<unsigned long long>(hashes[i].hash));
-        out << buf;
+        ok = std::fprintf(out, "%zu %llu %016llx\n", i, static_cast<unsigned long long>(hashes[i].count),
+                          static_cast<unsigned long long>(hashes[i].hash)) > 0;
     }
-    if (!out)
+    if (out == nullptr || std::fclose(out) != 0 || !ok)
     {
-        out.close(); // what the destructor would write; exit skips it
         Die(1, "qp-replay: cannot write %s\n", path.c_str());
     }
 }
@@ -286,16 +285,15 @@ struct LoadedTrace
     int32_t idBound = 0; // 1 + the largest recorded id
 };
 
-/// Loads `path` and `path + ".steps"` (or `stepsPath`), and checks that the ops form a valid call sequence:
+/// Loads `path` and `path + ".steps"`, and checks that the ops form a valid call sequence:
 /// every id is live where it is used, and boundaries lie within the trace. Exits on error.
-inline void LoadOrDie(const std::string& path, const std::string& stepsPath, LoadedTrace& loaded)
+inline void LoadOrDie(const std::string& path, LoadedTrace& loaded)
 {
     std::string error;
     loaded.path = path;
     const std::string file = path.substr(path.find_last_of('/') + 1); // npos + 1: no directory
     loaded.name = file.substr(0, file.find('.'));
-    if (!loaded.trace.Load(path, error) ||
-        !loaded.steps.Load(stepsPath.empty() ? path + ".steps" : stepsPath, error))
+    if (!loaded.trace.Load(path, error) || !loaded.steps.Load(path + ".steps", error))
     {
         Die(1, "%s\n", error.c_str());
     }
@@ -557,37 +555,47 @@ inline void AddRun(JsonLine& j, const RunResult& r)
         .Array("steps_ops", r.Column(&StepSample::ops));
 }
 
-/// The timed runs of every engine but the quadtree (replay_peers.cpp): `repeats` replays, each of a fresh
-/// engine from make(); one JSON line per run (base("run"), the run's heap bytes per proxy as HeapBytes
-/// measures them, the per-step arrays), a line per run and the median on stdout.
-template <typename Make, typename Base>
-void TimedRuns(const LoadedTrace& loaded, const char* name, int repeats, const std::string& jsonPath,
-               Make make, Base base)
+/// The times per step of one engine configuration's timed runs (TimedRun), for the medians printed at the end.
+struct Timings
 {
-    std::vector<double> ms;
-    for (int r = 0; r < repeats; ++r)
+    std::string name;
+    std::vector<double> ms, findMs; // per run: the whole broadphase work and its UpdatePairs calls
+
+    void PrintMedians() const
     {
-        const int64_t heap0 = HeapBytes();
-        auto engine = make();
-        const RunResult result = Replay(loaded, *engine);
-        const int64_t heap = HeapBytes() - heap0; // what the engine holds after the whole trace
-        const double perProxy = double(heap) / std::max(1, engine->ProxyCount());
-        JsonLine j = base("run");
-        j.Int("rep", r)
-            .Int("heap_bytes", heap)
-            .Int("proxies_end", engine->ProxyCount())
-            .Num("bytes_per_proxy", perProxy);
-        AddRun(j, result);
-        AppendLine(jsonPath, j.Text());
-        const double total = double(result.Total(&StepSample::ns));
-        ms.push_back(total / loaded.steps.steps * 1e-6);
-        std::printf("%s rep %d: %.3f ms/step, %.1f ns/proxy/step, %.0f bytes/proxy\n", name, r, ms.back(),
-                    total / std::max(1.0, double(result.Total(&StepSample::proxies))), perProxy);
+        if (!ms.empty())
+        {
+            std::printf("%s: median %.3f ms/step, FindPairs %.3f ms/step\n", name.c_str(), Median(ms),
+                        Median(findMs));
+        }
     }
-    if (!ms.empty())
-    {
-        std::printf("%s: median %.3f ms/step\n", name, Median(ms));
-    }
+};
+
+/// One timed run, of any engine: a fresh engine from make() replays the trace. Appends its JSON line (`j`, the
+/// run's number, the heap bytes the engine holds after the whole trace as HeapBytes measures them, the per-step
+/// arrays, then what more(j, engine, result) adds), prints a line and adds the run's times to `t`.
+template <typename Make, typename More>
+void TimedRun(const LoadedTrace& loaded, const std::string& jsonPath, JsonLine j, Timings& t, Make make,
+              More more)
+{
+    const int64_t heap0 = HeapBytes();
+    auto engine = make();
+    const RunResult result = Replay(loaded, *engine);
+    const int64_t heap = HeapBytes() - heap0;
+    const double perProxy = double(heap) / std::max(1, engine->ProxyCount());
+    j.Int("rep", int64_t(t.ms.size()))
+        .Int("heap_bytes", heap)
+        .Int("proxies_end", engine->ProxyCount())
+        .Num("bytes_per_proxy", perProxy);
+    AddRun(j, result);
+    more(j, *engine, result);
+    AppendLine(jsonPath, j.Text());
+    const double total = double(result.Total(&StepSample::ns));
+    t.ms.push_back(total / loaded.steps.steps * 1e-6);
+    t.findMs.push_back(double(result.Total(&StepSample::findNs)) / loaded.steps.steps * 1e-6);
+    std::printf("%s rep %zu: %.3f ms/step, %.1f ns/proxy/step, %.0f bytes/proxy\n", t.name.c_str(),
+                t.ms.size() - 1, t.ms.back(),
+                total / std::max(1.0, double(result.Total(&StepSample::proxies))), perProxy);
 }
 
 } // namespace qpbench

@@ -1,16 +1,17 @@
 // qp-replay's engines other than the quadtree core (replay.cpp): stock Box2D 2.4.1's b2BroadPhase (the
-// reference line and pair sets), brute force, the paper's design, Chipmunk2D, Bullet, and the oracle floor.
-// Same replay and timing definition as the quadtree (replay_common.h). Engine names (--engine):
+// reference line and pair sets), brute force, the paper's design, Chipmunk2D, Bullet, the oracle floor and the
+// null engine. Same replay and timing definition as the quadtree (replay_common.h). Engine names (--engine):
 //
-//   stock                b2BroadPhase; --hashes-out writes its pair-set hashes (the exactness reference)
-//   brute                quadphase::BruteForceBroadPhase (refused above --max-proxies, default 20000)
-//   paper                the paper's design (bench/baselines), levels --levels (auto: leaves about twice the
-//   mean fat
-//                        box), --threads; APPROXIMATE: the check counts its missed, duplicate and extra pairs
-//   cp-hash-xK           Chipmunk2D's cpSpaceHash, cell side K x the mean fat box side (K = 0.5, 1, 2, 4, 8,
-//   ...) cp-tree              Chipmunk2D's cpBBTree bt-dbvt              Bullet's btDbvtBroadphase bt-sap
-//   Bullet's bt32BitAxisSweep3 over the trace's bounds (native mode only, below) oracle               the
-//   output alone: Box2D's protocol with the pairs of every query known in advance
+//   stock       b2BroadPhase; --hashes-out writes its pair-set hashes (the exactness reference)
+//   brute       quadphase::BruteForceBroadPhase (refused above --max-proxies, default 20000)
+//   paper       the paper's design (bench/baselines), levels --levels (auto: leaves about twice the mean fat
+//               box), --threads; APPROXIMATE: the check counts its missed, duplicate and extra pairs
+//   cp-hash-xK  Chipmunk2D's cpSpaceHash, cell side K x the mean fat box side (K = 0.5, 1, 2, 4, 8, ...)
+//   cp-tree     Chipmunk2D's cpBBTree
+//   bt-dbvt     Bullet's btDbvtBroadphase
+//   bt-sap      Bullet's bt32BitAxisSweep3 over the trace's bounds (native mode only, below)
+//   oracle      the output alone: Box2D's protocol with the pairs of every query known in advance
+//   null        nothing: the replay loop's own cost (op dispatch, id map, clock reads); timed runs only
 //
 // Two modes. Box2D's protocol (the names above): the engine keeps Box2D's fat boxes (FattenNew / Refatten,
 // bit-identical to Box2D's) and move buffer, re-indexes a proxy when its fat box changes, and at UpdatePairs
@@ -52,6 +53,29 @@ void AddKeys(const PairList& pairs, std::vector<uint64_t>& keys)
         keys.push_back(PairKey(p.first, p.second));
     }
 }
+
+/// Does nothing: measures the replay loop's own cost (op dispatch, id map, clock reads).
+class NullEngine
+{
+public:
+    int32_t Create(const Box&, int32_t recorded)
+    {
+        ++m_live;
+        return recorded;
+    }
+    void Destroy(int32_t) { --m_live; }
+    void Move(int32_t, const Box&, Vec2) {}
+    void Touch(int32_t) {}
+    void UpdatePairs() {}
+    void ShiftOrigin(Vec2) {}
+    int32_t ProxyCount() const { return m_live; }
+    size_t PairCount() const { return 0; }
+    void PairKeys(std::vector<uint64_t>&) const {}
+    void BeginTimedSteps() {}
+
+private:
+    int32_t m_live = 0;
+};
 
 class StockEngine
 {
@@ -418,8 +442,12 @@ int RunEngine(const PeerRun& run, Make make, bool checked = true)
         j.Int("calls_hashed", calls).Int("mismatches", bad);
         AppendLine(run.args.Get("json"), j.Text());
     }
-    TimedRuns(run.loaded, run.engine.c_str(), int(run.args.GetInt("repeats", 5)), run.args.Get("json"), make,
-              run.base);
+    Timings timings{run.engine, {}, {}};
+    for (int r = 0; r < int(run.args.GetInt("repeats", 5)); ++r)
+    {
+        TimedRun(run.loaded, run.args.Get("json"), run.base("run"), timings, make, [](auto&&...) {});
+    }
+    timings.PrintMedians();
     return bad != 0 ? 3 : 0;
 }
 
@@ -451,6 +479,11 @@ int RunPeer(const PeerRun& run)
     const float multiplier = native && m != std::string::npos ? float(std::atof(e.c_str() + m + 2))
                                                               : quadphase::FatPolicy{}.multiplier;
     const std::string base = e.substr(0, std::min({e.find("-native"), x, m}));
+    if (base == "null")
+    {
+        return RunEngine<NullEngine>(
+            run, [] { return std::make_unique<NullEngine>(); }, false);
+    }
     if (base == "stock")
     {
         return RunEngine<StockEngine>(run, [] { return std::make_unique<StockEngine>(); });

@@ -68,8 +68,6 @@ namespace
 
 using namespace qpbench;
 
-using quadphase::tools::CountingFilter;
-
 int AwakeDynamic(const b2World& world)
 {
     int n = 0;

@@ -24,14 +24,8 @@
 namespace qpbench
 {
 
-using quadphase::tools::AppendLine;
-using quadphase::tools::Args;
-using quadphase::tools::JsonLine;
-using quadphase::tools::Mean;
-using quadphase::tools::Median;
-using quadphase::tools::PeakRss;
-using quadphase::tools::ProcField;
-using quadphase::tools::Quantile;
+// Args, JsonLine, AppendLine, Median, Quantile, Mean, PeakRss, ProcField, ...
+using namespace quadphase::tools;
 
 using Clock = std::chrono::steady_clock;
 
