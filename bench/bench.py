@@ -28,9 +28,10 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from qpbench import machine, paper, plot, report, run  # noqa: E402
+from qpbench import paper, plot, report, run  # noqa: E402
 from qpbench.report import num as fmt, table  # noqa: E402
-from qpbench.stats import med, ratio  # noqa: E402
+from quadphase_tools import machine  # noqa: E402
+from quadphase_tools.stats import med, ratio  # noqa: E402
 
 PARTS = ("step", "phases", "replay", "queries", "circles")
 # Step benchmark sizes per scene (scenes not listed here: their default size, and in the full profile also 4x it).
@@ -283,7 +284,7 @@ def frames(args):
     """--frames: every frame engine on every scene (also with --busy) for --rounds rounds, then frames.{md,csv,png}."""
     lv, d = args.levels[0]
     runner = run.Runner("bench.py", os.path.join(d, "bench"), os.path.join(args.work, "frames"), "frames",
-                        TOOLS[2:4], args.report_only, wait_quiet=args.wait_quiet, quiet_cpus=args.quiet_cpus)
+                        tools=TOOLS[2:4], append=args.report_only, wait_quiet=args.wait_quiet, quiet_cpus=args.quiet_cpus)
     info = report.read_json(runner.jsonl + ".json") if args.report_only else dict(machine.describe(d), t0=time.time())
     units = [] if args.report_only else [
         (s, n, e, busy) for s, lo, hi, dflt in (l.split("\t")[0].split() for l in runner.run(
@@ -813,7 +814,7 @@ def headline(d, by, rp, level):
     o50 = (pf.get(("particles", 50000)) or {}).get("qt_over_oracle")
     others = ", ".join(f"{s} {n}: {r['qt_over_oracle']:.1f}×" for (s, n), r in sorted(pf.items())
                        if r["qt_over_oracle"])
-    L.append(f"| replay, 1 thread: within 4× of the oracle floor on particles 50k | "
+    L.append("| replay, 1 thread: within 4× of the oracle floor on particles 50k | "
              + (f"{o50:.1f}×" if o50 else "particles 50k not in this profile")
              + f" (every trace: {others}) | {met(o50 <= 4) if o50 else 'n/a'} |")
     mem = ", ".join(f"{s} {n}: {r['qt_over_memory']:.0f}×" for (s, n), r in sorted(pf.items()) if r["qt_over_memory"])

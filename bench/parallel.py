@@ -14,9 +14,10 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from qpbench import machine, paper, plot, report, run, stats  # noqa: E402
+from qpbench import paper, plot, report, run  # noqa: E402
 from qpbench.report import fixed as fmt, table  # noqa: E402
 from qpbench.stats import amdahl, karp_flatt, round_ratios  # noqa: E402
+from quadphase_tools import machine, stats  # noqa: E402
 
 THRESHOLDS = [0, 64, 128, 256, 512, 1024, 4096]
 # Options whose default depends on the version: (option, quick, full, help).

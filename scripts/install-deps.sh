@@ -11,7 +11,7 @@
 #   test         scripts/test.sh: + ffmpeg (configuring the project builds the tests, which need Catch2, and
 #                quadphase-scene, which needs cairo; its tests write a GIF and an MP4 through ffmpeg), abigail-tools
 #                (tests/abi compares libbox2d.so.2's ABI with stock's by abidiff)
-#   demo         scripts/demo.sh: + python3 (the demo's report is the benchmark's, bench/qpbench)
+#   demo         scripts/demo.sh: + python3 (the demo runs the bench tools through support/tools/python)
 #   render       scripts/render.sh: + ffmpeg (GIF/MP4)
 #   testbed      scripts/testbed-screenshot.sh: + X11/GL dev packages for Box2D's testbed, Xvfb, Mesa, xdotool, ffmpeg
 #   bench        bench/*.sh, scripts/soak.sh: + Chipmunk2D, Bullet, python3

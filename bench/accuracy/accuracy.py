@@ -21,8 +21,9 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, os.path.dirname(HERE))
-from qpbench import machine, plot, report, run  # noqa: E402
+from qpbench import plot, report, run  # noqa: E402
 from qpbench.report import sig as fmt, table  # noqa: E402
+from quadphase_tools import machine  # noqa: E402
 
 # (scene, size, simulated seconds). Modest sizes: the whole sweep (2 rounds) took about 25 minutes on 2 busy cores.
 SCENES = [("pyramid", 20, 10.0), ("tiles", 1000, 10.0), ("particles", 1000, 10.0), ("rain", 1000, 5.0),

@@ -4,7 +4,7 @@ import csv
 import json
 import math
 
-from .stats import med
+from quadphase_tools.stats import med
 
 DASH = "–"
 

@@ -1,15 +1,14 @@
-"""Running the benchmark tools: one log and one JSON-lines file per run, quiet-waits before rounds, trace recording
-(reused when a matching trace exists), shuffled orders and a progress bar."""
+"""The benchmark scripts' command line, trace recording (reused when a matching trace exists), shuffled orders and a
+progress bar, over quadphase_tools' runner (logs, JSON lines, quiet-waits)."""
 
 import argparse
-import json
 import os
 import random
-import subprocess
 import sys
 import time
 
-from .machine import REPO, cpus_busy
+from quadphase_tools import runner
+from quadphase_tools.machine import REPO
 
 WAIT_HELP = ("before each timed round, wait up to this many seconds for other processes to use less than "
              "--quiet-cpus CPUs")
@@ -39,59 +38,12 @@ def parse_args(doc, full_help, profile_options, more):
     return a
 
 
-class Runner:
-    """Runs BIN_DIR's tools; their output goes to WORK/NAME.log, their JSON lines to WORK/NAME.jsonl (started
-    anew unless `append`, as for --report-only)."""
+class Runner(runner.Runner):
+    """quadphase_tools' runner, plus the traces the benchmark scripts replay (TRACES, default WORK/traces)."""
 
-    def __init__(self, who, bin_dir, work, name, tools=(), append=False, traces=None, seed=1, rerecord=False,
-                 wait_quiet=0.0, quiet_cpus=0.3, echo=print):
-        self.who, self.bin, self.seed, self.rerecord, self.echo = who, bin_dir, seed, rerecord, echo
-        self.max_wait, self.quiet_cpus, self.quiet_samples = wait_quiet, quiet_cpus, []
-        for tool in tools if not append else ():
-            if not os.access(os.path.join(bin_dir, tool), os.X_OK):
-                sys.exit(f"{who}: {tool} not found in {bin_dir}; run the script's .sh driver (it builds them)")
-        os.makedirs(work, exist_ok=True)
-        self.traces = traces or os.path.join(work, "traces")
-        self.jsonl = os.path.join(work, name + ".jsonl")
-        self.log = open(os.path.join(work, name + ".log"), "a" if append else "w")
-        if os.path.exists(self.jsonl) and not append:
-            os.remove(self.jsonl)
-
-    def run(self, tool, *argv, ok_codes=(0,), env=None):
-        """Runs a tool (env: variables to set, None to unset); exits on a code not in ok_codes."""
-        cmd = [os.path.join(self.bin, tool)] + [str(a) for a in argv]
-        self.log.write(("" if not env else " ".join(f"{k}={v}" for k, v in env.items() if v is not None) + " ")
-                       + "$ " + " ".join(cmd) + "\n")
-        self.log.flush()
-        full_env = {k: v for k, v in dict(os.environ, **env).items() if v is not None} if env else None
-        p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=full_env)
-        self.log.write(p.stdout)
-        self.log.flush()
-        if p.returncode not in ok_codes:
-            print(p.stdout)
-            sys.exit(f"{self.who}: {' '.join(cmd)} failed with code {p.returncode}")
-        return p.returncode, p.stdout
-
-    def results(self):
-        """Every JSON line so far; a label "...|round=R" gives the row its round (rep_round)."""
-        rows = []
-        if os.path.exists(self.jsonl):
-            with open(self.jsonl) as f:
-                rows = [json.loads(line) for line in f if line.strip()]
-        for row in rows:
-            if "|round=" in row.get("label", ""):
-                row["rep_round"] = int(row["label"].split("|round=")[1])
-        return rows
-
-    def wait_quiet(self, seconds=None):
-        """Waits up to `seconds` (default: the runner's) for other processes to use < quiet_cpus CPUs; records and
-        returns how many they used."""
-        limit = self.max_wait if seconds is None else seconds
-        start, busy = time.time(), cpus_busy()
-        while busy > self.quiet_cpus and time.time() - start < limit:
-            busy = cpus_busy(1.0)
-        self.quiet_samples.append(busy)
-        return busy
+    def __init__(self, who, bin_dir, work, name, traces=None, seed=1, rerecord=False, **options):
+        super().__init__(who, bin_dir, work, name, **options)
+        self.traces, self.seed, self.rerecord = traces or os.path.join(work, "traces"), seed, rerecord
 
     def record(self, scene, size, warmup, steps):
         """The trace of (scene, size, seed, warm-up, steps), recorded with qp-record unless a matching one exists."""

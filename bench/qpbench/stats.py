@@ -1,18 +1,6 @@
-"""Medians, ratios and the two laws of parallel speed-up the reports use."""
+"""Per-round ratios and the two laws of parallel speed-up the reports use (medians and ratios: quadphase_tools.stats)."""
 
 import math
-import statistics
-
-
-def med(values, empty=None):
-    """Median of the values that are not None (or NaN); `empty` when there are none."""
-    v = [x for x in values if x is not None and not (isinstance(x, float) and math.isnan(x))]
-    return statistics.median(v) if v else empty
-
-
-def ratio(a, b):
-    """a / b, or None when either is missing or zero."""
-    return a / b if a and b else None
 
 
 def round_ratios(num, den, field):

@@ -2,20 +2,23 @@
 """quadphase's side-by-side demo: one scene stepped with stock Box2D 2.4.1 and with the quadtree broadphase.
 
 Runs the benchmark's step tools (bench/src/step_bench.cpp: qp-step-stock and qp-step-quadtree) alternately, stock,
-quadtree, stock, ... --repeat times each, through the benchmark's runner (bench/qpbench), and prints one table of
-medians over the repeats with stock / quadtree ratios of the times. scripts/demo.sh builds the tools and runs this.
+quadtree, stock, ... --repeat times each, through the runner the benchmark uses (support/tools/python), and prints
+one table of medians over the repeats with stock / quadtree ratios of the times. scripts/demo.sh builds the tools
+and runs this.
 """
 
 import argparse
 import json
 import math
 import os
+import subprocess
 import sys
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-sys.path.insert(0, os.path.join(REPO, "bench"))
-from qpbench import machine, run  # noqa: E402
-from qpbench.stats import med  # noqa: E402
+sys.path.insert(0, os.path.join(REPO, "support", "tools", "python"))
+from quadphase_tools import machine  # noqa: E402
+from quadphase_tools.runner import Runner  # noqa: E402
+from quadphase_tools.stats import med  # noqa: E402
 
 EPILOG = """Broadphase ms is Box2D's b2Profile::broadphase (proxy synchronisation and new-pair search in
 b2World::Solve, pair callbacks included); step ms is b2Profile::step. 'new pairs at filtering' counts
@@ -43,8 +46,8 @@ VARIANTS = ("stock", "quadtree")
 
 def scene_table(bin_dir):
     """name -> (min, max, default, what the size counts, description), from qp-step-stock --list."""
-    out = run.subprocess.run([os.path.join(bin_dir, "qp-step-stock"), "--list"], stdout=run.subprocess.PIPE,
-                             text=True, check=True).stdout
+    out = subprocess.run([os.path.join(bin_dir, "qp-step-stock"), "--list"], stdout=subprocess.PIPE, text=True,
+                         check=True).stdout
     scenes = {}
     for line in out.splitlines():
         head, meaning, description = line.split("\t")
@@ -99,8 +102,8 @@ def main():
         sys.exit(f"quadphase-demo: {bin_dir}/qp-step-stock not found (scripts/demo.sh builds it)")
     scenes = scene_table(bin_dir)
     args = parse_args(scenes)
-    runner = run.Runner("quadphase-demo", args.bin_dir, os.path.join(os.path.dirname(args.bin_dir), "tmp", "demo"),
-                        "demo", tools=["qp-step-" + v for v in VARIANTS])
+    runner = Runner("quadphase-demo", args.bin_dir, os.path.join(os.path.dirname(args.bin_dir), "tmp", "demo"), "demo",
+                    tools=["qp-step-" + v for v in VARIANTS])
     common = ["--scene", args.scene, "--size", args.size, "--seed", args.seed, "--warmup", args.warmup,
               "--steps", args.steps - args.warmup, "--threads", "default", "--json", runner.jsonl]
     extra = (["--validate"] if args.validate else []) + (["--timing"] if args.timing else [])

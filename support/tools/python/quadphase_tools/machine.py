@@ -6,7 +6,7 @@ import platform
 import subprocess
 import time
 
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+REPO = os.path.abspath(os.path.join(os.path.dirname(__file__), *[os.pardir] * 4))  # support/tools/python/<pkg>
 LSCPU_KEYS = ("Thread(s) per core", "Core(s) per socket", "Socket(s)", "L2 cache", "L3 cache", "Hypervisor vendor")
 CACHE_KEYS = ("CMAKE_CXX_COMPILER", "CMAKE_BUILD_TYPE", "CMAKE_CXX_FLAGS_RELEASE", "QUADPHASE_BOX2D_TARBALL",
               "QUADPHASE_BOX2D_SOURCE_DIR")
