@@ -81,16 +81,6 @@ long StatusKiB(const char* field)
     return std::atol(ProcField("/proc/self/status", field, "-1").c_str());
 }
 
-int AwakeDynamic(const b2World& world)
-{
-    int n = 0;
-    for (const b2Body* b = world.GetBodyList(); b != nullptr; b = b->GetNext())
-    {
-        n += b->GetType() == b2_dynamicBody && b->IsAwake() ? 1 : 0;
-    }
-    return n;
-}
-
 struct PhaseSamples
 {
     int first = -1;
@@ -257,13 +247,14 @@ int main(int argc, char** argv)
         toi.push_back(p.solveTOI);
         contacts += world.GetContactCount();
         contactsAll += world.GetContactCount();
-        phase = Classify(world, phase); // outside b2Profile (wall_s includes it)
+        int awake = 0;
+        phase = Classify(world, phase, &awake); // outside b2Profile (wall_s includes it)
         PhaseSamples& ph = phases[phase];
         ph.first = ph.first < 0 ? warmup + s : ph.first;
         ph.step.push_back(p.step);
         ph.broadphase.push_back(p.broadphase);
         stepPhase.push_back(int(phase));
-        stepAwake.push_back(AwakeDynamic(world));
+        stepAwake.push_back(awake);
         memoryLine(warmup + s + 1);
     }
     const int64_t end = NowNs();
