@@ -20,8 +20,7 @@ target=qp-step-quadtree
 QP_LOG=1 qp_configure "$build_dir" -DCMAKE_BUILD_TYPE=Release
 qp_build "$build_dir" "$target"
 
-steps=${STEPS:-100000}
-args=(--scene churn --size "${SIZE:-250}" --seed "${SEED:-1}" --warmup $((steps - 1)) --steps 1
+args=(--scene churn --size "${SIZE:-250}" --seed "${SEED:-1}" --warmup $((${STEPS:-100000} - 1)) --steps 1
       --interval "${INTERVAL:-10000}" --threads default)
 [[ "${VALIDATE:-0}" == 1 ]] && args+=(--validate)
 start=$(date +%s)
