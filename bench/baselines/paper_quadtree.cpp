@@ -29,9 +29,18 @@ Box CheckedBounds(const Box& bounds)
 
 omp_sched_t OmpKind(Schedule schedule)
 {
-    // Indexed by Schedule: Static, Dynamic, Guided, Auto.
-    const omp_sched_t kinds[] = {omp_sched_static, omp_sched_dynamic, omp_sched_guided, omp_sched_auto};
-    return kinds[int(schedule)];
+    switch (schedule) // no default: -Wswitch names a Schedule added later and not mapped here
+    {
+    case Schedule::Static:
+        return omp_sched_static;
+    case Schedule::Dynamic:
+        return omp_sched_dynamic;
+    case Schedule::Guided:
+        return omp_sched_guided;
+    case Schedule::Auto:
+        return omp_sched_auto;
+    }
+    return omp_sched_static; // a value outside the enumerators
 }
 
 Pair Ordered(ProxyId a, ProxyId b)

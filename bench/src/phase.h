@@ -20,10 +20,11 @@ enum Phase
 };
 constexpr const char* kPhaseName[PhaseCount] = {"falling", "piling", "resting"};
 
-/// The phase the world is in after a step; `previous` keeps it from going back.
-inline Phase Classify(const b2World& world, Phase previous)
+/// The phase the world is in after a step; `previous` keeps it from going back. `awake`, when given, receives
+/// the number of awake dynamic bodies.
+inline Phase Classify(const b2World& world, Phase previous, int* awake = nullptr)
 {
-    int dynamic = 0, landed = 0, moving = 0;
+    int dynamic = 0, landed = 0, moving = 0, awakeCount = 0;
     for (const b2Body* b = world.GetBodyList(); b != nullptr; b = b->GetNext())
     {
         if (b->GetType() != b2_dynamicBody)
@@ -31,6 +32,7 @@ inline Phase Classify(const b2World& world, Phase previous)
             continue;
         }
         ++dynamic;
+        awakeCount += b->IsAwake() ? 1 : 0;
         moving += b->IsAwake() && b->GetLinearVelocity().LengthSquared() > 0.25f ? 1 : 0;
         for (const b2ContactEdge* e = b->GetContactList(); e != nullptr; e = e->next)
         {
@@ -40,6 +42,10 @@ inline Phase Classify(const b2World& world, Phase previous)
                 break;
             }
         }
+    }
+    if (awake != nullptr)
+    {
+        *awake = awakeCount;
     }
     const Phase p = 100 * landed < dynamic ? Falling : (20 * moving < dynamic ? Resting : Piling);
     return std::max(p, previous);

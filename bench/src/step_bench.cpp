@@ -5,7 +5,7 @@
 //
 //   qp-step-<variant> --scene NAME --size N [--seed S] [--warmup W] [--steps S] [--threads T|default]
 //                     [--ccd scene|on|off] [--json FILE] [--label TEXT] [--validate] [--timing]
-//                     [--busy] [--jobs N]
+//                     [--busy] [--jobs N] [--interval I [--max-growth PCT]]
 //                     (--list prints the scenes: name, size range and default, then tab-separated what the size
 //                     counts and a description)
 //
@@ -28,6 +28,13 @@
 // workers (quadphase_jobs/job_system.h: a std::thread pool) through quadphase::SetTaskSystem, as a game with
 // its own job system would; --threads still applies (with --threads default, the library's defaults decide
 // whether a step goes parallel at all).
+//
+// --interval I (the soak, scripts/soak.sh): prints resident memory from the start to the end of the run (warm-up
+// and timed steps, counted together): a line at step 0, after the warm-up, every I steps and at the last step,
+// each with step, bodies, proxies, VmRSS, VmHWM (KiB) and, in the quadtree build, the broadphase's own heap
+// (Stats::memoryBytes; -1 in stock). The warm-up here is the soak's: the first interval, or 10% of the run if
+// shorter. Exit status 1 when VmRSS at the end exceeds VmRSS after it by more than --max-growth percent (default
+// 10). The timed steps keep a few numbers per step, so a soak runs as warm-up (--warmup N-1 --steps 1).
 //
 // Phases (of the timed steps, from the world's state after each step, untimed): with D dynamic bodies,
 // "falling" while fewer than 1% of them touch a static body (nothing has landed yet: in rain, until the
@@ -68,14 +75,10 @@ namespace
 
 using namespace qpbench;
 
-int AwakeDynamic(const b2World& world)
+/// A field of /proc/self/status in KiB ("VmRSS:", "VmHWM:"); -1 when unknown.
+long StatusKiB(const char* field)
 {
-    int n = 0;
-    for (const b2Body* b = world.GetBodyList(); b != nullptr; b = b->GetNext())
-    {
-        n += b->GetType() == b2_dynamicBody && b->IsAwake() ? 1 : 0;
-    }
-    return n;
+    return std::atol(ProcField("/proc/self/status", field, "-1").c_str());
 }
 
 struct PhaseSamples
@@ -90,7 +93,8 @@ int main(int argc, char** argv)
 {
     namespace scenes = quadphase::scenes;
     const Args args(argc, argv, "qp-step-" + std::string(kVariant),
-                    {"scene", "size", "seed", "warmup", "steps", "threads", "ccd", "json", "label", "jobs"},
+                    {"scene", "size", "seed", "warmup", "steps", "threads", "ccd", "json", "label", "jobs",
+                     "interval", "max-growth"},
                     {"list", "per-step", "validate", "timing", "busy"});
     if (args.Has("list"))
     {
@@ -105,13 +109,15 @@ int main(int argc, char** argv)
     const std::string threads = args.Get("threads", "1");
     const bool validate = args.Has("validate"), timing = args.Has("timing"), busy = args.Has("busy");
     const int jobs = int(args.GetIntIn("jobs", 0, 0, 256));
+    const long interval = args.GetIntIn("interval", 0, 0, 100000000); // 0: no memory lines
+    const double maxGrowth = double(args.GetIntIn("max-growth", 10, 0, 10000));
     args.Check(
         args.Has("scene") && args.Has("size") && (ccd == "scene" || ccd == "on" || ccd == "off") &&
             (kQuadtree || !(validate || timing || jobs > 0)),
         "usage: qp-step-%s --scene NAME --size N [--seed S] [--warmup W] [--steps S]"
         " [--threads T|default]\n"
         "       [--ccd scene|on|off] [--json FILE] [--label TEXT] [--per-step] [--validate] [--timing]\n"
-        "       [--busy] [--jobs N]\n"
+        "       [--busy] [--jobs N] [--interval I [--max-growth PCT]]\n"
         "       (--list: scene names and size ranges; --validate, --timing, --jobs: quadtree build only)\n"
         "scenes: %s\n",
         kVariant, scenes::SceneNameList().c_str());
@@ -135,6 +141,7 @@ int main(int argc, char** argv)
     std::unique_ptr<qpjobs::JobSystem> jobSystem; // outlives the world too (SetTaskSystem's contract)
 #endif
     scenes::Scene scene;
+    const long rssBeforeKiB = StatusKiB("VmRSS:");
     const int64_t build0 = NowNs();
     try
     {
@@ -180,6 +187,35 @@ int main(int argc, char** argv)
         });
     }
 
+    // --interval: resident memory after `done` steps of the run, when due (see the top of the file).
+    const long total = long(warmup) + steps, warmStep = std::min(interval, total / 10);
+    long startKiB = 0, warmKiB = 0, endKiB = 0;
+    const auto memoryLine = [&](long done) {
+        if (interval == 0 || (done != 0 && done != warmStep && done % interval != 0 && done != total))
+        {
+            return;
+        }
+        long heapKiB = -1;
+#if QUADPHASE_VARIANT_QUADPHASE
+        heapKiB = long(quadphase::GetStats(world).memoryBytes / 1024);
+#endif
+        endKiB = StatusKiB("VmRSS:");
+        std::printf("%10ld %8d %8d %10ld %10ld %12ld\n", done, world.GetBodyCount(), world.GetProxyCount(),
+                    endKiB, StatusKiB("VmHWM:"), heapKiB);
+        std::fflush(stdout);
+        startKiB = done == 0 ? endKiB : startKiB;
+        warmKiB = done == warmStep ? endKiB : warmKiB;
+    };
+    if (interval > 0)
+    {
+        std::printf("qp-step-%s: %ld steps, size %d, seed %u; world: scene library \"%s\": %s\n", kVariant,
+                    total, size, seed, args.Get("scene").c_str(), scenes::GetSceneInfo(*sceneId).description);
+        std::printf("%10s %8s %8s %10s %10s %12s\n", "step", "bodies", "proxies", "VmRSS_KiB", "VmHWM_KiB",
+                    "bp_heap_KiB");
+        std::printf("(before building the world: VmRSS %ld KiB)\n", rssBeforeKiB);
+        memoryLine(0);
+    }
+
     Phase phase = Falling;
     double contactsAll = 0.0; // over the warm-up steps too
     const int64_t run0 = NowNs();
@@ -188,6 +224,7 @@ int main(int argc, char** argv)
         scenes::StepScene(scene);
         contactsAll += world.GetContactCount();
         phase = Classify(world, phase);
+        memoryLine(s + 1);
     }
 #if QUADPHASE_VARIANT_QUADPHASE
     quadphase::ResetCounters(world);
@@ -210,13 +247,15 @@ int main(int argc, char** argv)
         toi.push_back(p.solveTOI);
         contacts += world.GetContactCount();
         contactsAll += world.GetContactCount();
-        phase = Classify(world, phase); // outside b2Profile (wall_s includes it)
+        int awake = 0;
+        phase = Classify(world, phase, &awake); // outside b2Profile (wall_s includes it)
         PhaseSamples& ph = phases[phase];
         ph.first = ph.first < 0 ? warmup + s : ph.first;
         ph.step.push_back(p.step);
         ph.broadphase.push_back(p.broadphase);
         stepPhase.push_back(int(phase));
-        stepAwake.push_back(AwakeDynamic(world));
+        stepAwake.push_back(awake);
+        memoryLine(warmup + s + 1);
     }
     const int64_t end = NowNs();
     if (busy)
@@ -225,6 +264,13 @@ int main(int argc, char** argv)
         busyThread.join();
     }
     const double wall = double(end - t0) * 1e-9;
+    const double growth = warmKiB > 0 ? 100.0 * double(endKiB - warmKiB) / double(warmKiB) : 0.0;
+    if (interval > 0)
+    {
+        std::printf("qp-step-%s: VmRSS start %ld KiB, after warm-up (step %ld) %ld KiB, end %ld KiB (%+.1f%% "
+                    "since the warm-up), peak %ld KiB\n",
+                    kVariant, startKiB, warmStep, warmKiB, endKiB, growth, StatusKiB("VmHWM:"));
+    }
     char positionHash[32];
     std::snprintf(positionHash, sizeof positionHash, "%016" PRIx64, scenes::HashBodyPositions(world));
 
@@ -290,6 +336,7 @@ int main(int argc, char** argv)
             .Num((name + "_step_ms").c_str(), Median(phases[k].step))
             .Num((name + "_broadphase_ms").c_str(), Median(phases[k].broadphase));
     }
+    int status = interval > 0 && growth > maxGrowth ? 1 : 0;
 #if QUADPHASE_VARIANT_QUADPHASE
     const quadphase::Stats st = quadphase::GetStats(world);
     j.Num("pairs_reported_per_step", double(st.pairsReported) / steps)
@@ -309,7 +356,6 @@ int main(int argc, char** argv)
         .Int("qt_pairs_reported", st.pairsReported)
         .Int("qt_proxies_queried", st.proxiesQueried)
         .Num("qt_update_ms_per_step", timing ? 1000.0 * st.updateSeconds / steps : NAN);
-    int status = 0;
     if (validate)
     {
         const quadphase::ValidationReport v = quadphase::GetValidationReport(world);
@@ -317,19 +363,29 @@ int main(int argc, char** argv)
             .Int("validation_pairs_compared", v.pairsCompared)
             .Int("validation_mismatches", v.mismatches)
             .Str("validation_first_mismatch", v.firstMismatch);
-        status = v.mismatches != 0 || v.checks == 0 ? 1 : 0;
+        if (v.mismatches != 0 || v.checks == 0)
+        {
+            status = 1;
+            std::fprintf(stderr, "qp-step-%s: validation FAILED (see validation_* in the JSON line)\n",
+                         kVariant);
+        }
+        if (interval > 0)
+        {
+            std::printf("qp-step-%s: validation %lld checks, %lld pairs, %lld mismatches\n", kVariant,
+                        (long long)v.checks, (long long)v.pairsCompared, (long long)v.mismatches);
+        }
     }
-#else
-    const int status = 0;
 #endif
     AppendLine(args.Get("json"), j.Text());
     std::printf("%s %s %d: step %.3f ms, broadphase %.3f ms (medians over %d steps), %.0f contacts, peak RSS "
                 "%.1f MB\n",
                 kVariant, args.Get("scene").c_str(), size, Median(step), Median(broadphase), steps,
                 contacts / steps, double(PeakRss()) / 1048576.0);
-    if (status != 0)
+    if (interval > 0)
     {
-        std::fprintf(stderr, "qp-step-%s: validation FAILED (see validation_* in the JSON line)\n", kVariant);
+        std::printf(growth > maxGrowth ? "qp-step-%s: FAIL: resident memory grew by more than %.0f%%\n"
+                                       : "qp-step-%s: memory flat (within %.0f%% of the warm-up)\n",
+                    kVariant, maxGrowth);
     }
     return status;
 }

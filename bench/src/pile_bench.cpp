@@ -1,17 +1,15 @@
-// qp-pile / qp-pile-stock: the cost of the worst case for any grid, thousands of proxies piled into one cell,
-// through b2BroadPhase itself (the same code in both builds: Box2D 2.4.1's dynamic tree in qp-pile-stock, the
-// quadtree in qp-pile). Every proxy overlaps every other, so each UpdatePairs after all of them moved must
-// report n (n - 1) / 2 pairs: the output's own size. The question is whether the cost stays in proportion to
-// it.
+// qp-pile-stock / qp-pile-quadtree: the cost of the worst case for any grid, thousands of proxies piled into one
+// cell, through b2BroadPhase itself (one source, two builds: Box2D 2.4.1's dynamic tree in qp-pile-stock, the
+// quadtree in qp-pile-quadtree; docs/robustness.md). Every proxy overlaps every other, so each UpdatePairs after
+// all of them moved must report n (n - 1) / 2 pairs: the output's own size. The question is whether the cost
+// stays in proportion to it.
 //
-//   qp-pile [--counts N1,N2,...] [--rounds R]
+//   qp-pile-<variant> [--counts N1,N2,...] [--rounds R]
 //
 // For each count n: n boxes of 0.1 m within 1 cm of one point; R rounds of (move every proxy 3 m right or
 // left, so every one leaves its fat AABB, then UpdatePairs). Prints per count: pairs per round, the median
 // round time in ms (MoveProxy and UpdatePairs; the callback only counts), and ns per pair. Exit status 1 when
 // a round reports a pair count other than n (n - 1) / 2.
-#include <algorithm>
-#include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -19,13 +17,11 @@
 #include <string>
 #include <vector>
 
-#include "box2d/b2_broad_phase.h"
+#include "box2d_variant.h"
 #include "tool_common.h"
 
 namespace
 {
-
-constexpr const char* kUsage = "usage: qp-pile [--counts N1,N2,...] [--rounds R]\n";
 
 struct Counter
 {
@@ -37,8 +33,9 @@ struct Counter
 
 int main(int argc, char** argv)
 {
-    const qpbench::Args args(argc, argv, "qp-pile", {"counts", "rounds"});
-    args.Check(true, "%s", kUsage);
+    const std::string tool = "qp-pile-" + std::string(kVariant);
+    const qpbench::Args args(argc, argv, tool, {"counts", "rounds"});
+    args.Check(true, "usage: %s [--counts N1,N2,...] [--rounds R]\n", tool.c_str());
     std::vector<int> counts;
     std::stringstream list(args.Get("counts", "1000,2000,4000,8000"));
     std::string item;
@@ -47,13 +44,13 @@ int main(int argc, char** argv)
         const int n = std::atoi(item.c_str());
         if (n < 2 || n > 100000)
         {
-            qpbench::Die(2, "qp-pile: counts must be in [2, 100000]\n%s", kUsage);
+            qpbench::Die(2, "%s: counts must be in [2, 100000]\n", tool.c_str());
         }
         counts.push_back(n);
     }
     const int rounds = int(args.GetIntIn("rounds", 7, 1, 1000));
 
-    std::printf("qp-pile (%s build of b2BroadPhase): %d rounds per count\n", QP_SOAK_VARIANT, rounds);
+    std::printf("%s (%s build of b2BroadPhase): %d rounds per count\n", tool.c_str(), kVariant, rounds);
     std::printf("%8s %12s %12s %12s\n", "proxies", "pairs/round", "median_ms", "ns/pair");
     for (int n : counts)
     {
@@ -80,7 +77,7 @@ int main(int argc, char** argv)
         {
             const float dx = (r % 2 == 0) ? 3.0f : -3.0f;
             Counter c;
-            const auto t0 = std::chrono::steady_clock::now();
+            const int64_t t0 = qpbench::NowNs();
             for (int i = 0; i < n; ++i)
             {
                 b2AABB& b = boxes[size_t(i)];
@@ -89,17 +86,15 @@ int main(int argc, char** argv)
                 bp.MoveProxy(ids[size_t(i)], b, b2Vec2(dx, 0.0f));
             }
             bp.UpdatePairs(&c);
-            const auto t1 = std::chrono::steady_clock::now();
-            ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+            ms.push_back(double(qpbench::NowNs() - t0) * 1e-6);
             if (c.pairs != expected || first.pairs != expected)
             {
-                std::fprintf(stderr, "qp-pile: %d proxies: %lld pairs, expected %lld\n", n,
+                std::fprintf(stderr, "%s: %d proxies: %lld pairs, expected %lld\n", tool.c_str(), n,
                              (long long)c.pairs, (long long)expected);
                 return 1;
             }
         }
-        std::sort(ms.begin(), ms.end());
-        const double median = ms[ms.size() / 2];
+        const double median = qpbench::Median(ms);
         std::printf("%8d %12lld %12.2f %12.2f\n", n, (long long)expected, median,
                     1e6 * median / double(expected));
     }
