@@ -17,6 +17,7 @@
 // the order of new contacts (equally valid simulation).
 #include <cinttypes>
 #include <cstdio>
+#include <exception>
 #include <fstream>
 #include <string>
 
@@ -55,7 +56,15 @@ int main(int argc, char** argv)
 
     qpbench::PrintMachine(stdout);
     const int64_t buildStart = qpbench::NowNs();
-    scenes::Scene scene = scenes::BuildScene(*sceneId, size, seed);
+    scenes::Scene scene;
+    try
+    {
+        scene = scenes::BuildScene(*sceneId, size, seed);
+    }
+    catch (const std::exception& e) // a size outside the scene's range
+    {
+        qpbench::Die(2, "qp-record: %s\n", e.what());
+    }
     b2World& world = *scene.world;
     const double buildSeconds = double(qpbench::NowNs() - buildStart) * 1e-9;
 
