@@ -324,13 +324,19 @@ int main(int argc, char** argv)
             .Int("warmup", index.warmup);
         return j;
     };
+    // Checking runs: the first configuration (first) or every one (all).
+    const size_t checked = check == "none" ? 0 : check == "first" ? 1 : configs.size();
+    const PeerRun run{args, loaded, engineName, [&](const char* kind) {
+                          JsonLine j = baseJson(kind);
+                          j.Str("engine", engineName).Int("threads", int(args.GetInt("threads", 1)));
+                          return j;
+                      }};
+    std::vector<Contender> contenders;
     if (engineName != "quadtree")
     {
-        return RunPeer(PeerRun{args, loaded, engineName, [&](const char* kind) {
-                                   JsonLine j = baseJson(kind);
-                                   j.Str("engine", engineName).Int("threads", int(args.GetInt("threads", 1)));
-                                   return j;
-                               }});
+        contenders.push_back(PeerContender(run));
+        Drive(contenders, checked, repeats);
+        return 0;
     }
     auto configJson = [&](JsonLine& j, const Config& c) {
         j.Int("threads", c.threads)
@@ -340,29 +346,26 @@ int main(int argc, char** argv)
             .Int("threshold", c.parallelThreshold);
     };
 
-    int64_t mismatches = 0;
-    // Untimed checking runs.
-    if (check != "none")
+    std::vector<CallHash> brute;
+    if (checked > 0 && args.Has("brute"))
     {
-        std::vector<CallHash> brute;
-        if (args.Has("brute"))
+        if (index.proxies > args.GetInt("max-proxies", 20000))
         {
-            if (index.proxies > args.GetInt("max-proxies", 20000))
-            {
-                Die(2, "qp-replay: --brute on %lld proxies would take too long (--max-proxies)\n",
-                    static_cast<long long>(index.proxies));
-            }
-            CoreEngine<quadphase::BruteForceBroadPhase> engine;
-            Replay(loaded, engine, &brute);
-            std::printf("brute force: %zu UpdatePairs calls hashed\n", brute.size());
+            Die(2, "qp-replay: --brute on %lld proxies would take too long (--max-proxies)\n",
+                static_cast<long long>(index.proxies));
         }
-        const std::string compareWith = args.Get("compare-hashes");
-        const std::vector<CallHash> reference = LoadHashesOrDie(compareWith);
-        const size_t checked = check == "first" ? 1 : configs.size();
-        for (size_t ci = 0; ci < checked; ++ci)
-        {
-            const Config& c = configs[ci];
-            CoreEngine<quadphase::QuadtreeBroadPhase> engine(quadphase::FatPolicy{}, c);
+        CoreEngine<quadphase::BruteForceBroadPhase> engine;
+        Replay(loaded, engine, &brute);
+        std::printf("brute force: %zu UpdatePairs calls hashed\n", brute.size());
+    }
+    const std::string compareWith = args.Get("compare-hashes");
+    const std::vector<CallHash> reference = LoadHashesOrDie(checked > 0 ? compareWith : "");
+    using Quadtree = CoreEngine<quadphase::QuadtreeBroadPhase>;
+    for (const Config& c : configs)
+    {
+        const bool first = contenders.empty();
+        const auto checkRun = [&, c, first] {
+            Quadtree engine(quadphase::FatPolicy{}, c);
             engine.SetTracking(true);
             QueryStats qs;
             std::vector<CallHash> hashes;
@@ -377,8 +380,7 @@ int main(int argc, char** argv)
             {
                 bad += CompareHashes(hashes, reference, "quadtree", compareWith.c_str());
             }
-            mismatches += bad;
-            if (ci == 0 && args.Has("hashes-out"))
+            if (first && args.Has("hashes-out"))
             {
                 SaveHashesOrDie(args.Get("hashes-out"), hashes);
             }
@@ -425,21 +427,9 @@ int main(int argc, char** argv)
                 j.Array("calls_buffered", qs.callBuffered);
             }
             AppendLine(jsonPath, j.Text());
-        }
-    }
-
-    // Timed runs: configurations interleaved within each round.
-    using Quadtree = CoreEngine<quadphase::QuadtreeBroadPhase>;
-    std::vector<Timings> timings;
-    for (const Config& c : configs)
-    {
-        timings.push_back(Timings{Describe(c), {}, {}});
-    }
-    for (int r = 0; r < repeats; ++r)
-    {
-        for (size_t ci = 0; ci < configs.size(); ++ci)
-        {
-            const Config& c = configs[ci];
+            return bad;
+        };
+        const auto timed = [&, c](Timings& t) {
             JsonLine j = baseJson("run");
             j.Str("engine", "quadtree");
             configJson(j, c);
@@ -447,8 +437,7 @@ int main(int argc, char** argv)
                 return std::make_unique<Quadtree>(quadphase::FatPolicy{}, c);
             };
             TimedRun(
-                loaded, jsonPath, j, timings[ci], make,
-                [&](JsonLine& line, Quadtree& engine, const RunResult& result) {
+                loaded, jsonPath, j, t, make, [&](JsonLine& line, Quadtree& engine, const RunResult& result) {
                     const quadphase::Stats st = engine.Get().GetStats();
                     // updateSeconds: the time the core itself booked as grid maintenance during the timed steps
                     // (MoveProxy timing is off, so with deferred maintenance this is the batched re-placement inside
@@ -464,15 +453,9 @@ int main(int argc, char** argv)
                         line.Array("calls_ns", result.callNs);
                     }
                 });
-        }
+        };
+        contenders.push_back(Contender{{Describe(c), {}, {}}, checkRun, timed});
     }
-    for (const Timings& t : timings)
-    {
-        t.PrintMedians();
-    }
-    if (mismatches != 0)
-    {
-        Die(3, "qp-replay: %lld MISMATCHING UpdatePairs calls\n", static_cast<long long>(mismatches));
-    }
+    Drive(contenders, checked, repeats);
     return 0;
 }

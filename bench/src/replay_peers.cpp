@@ -404,18 +404,15 @@ constexpr bool kNative = false;
 template <typename Index>
 constexpr bool kNative<PeerEngine<Index, true>> = true;
 
-/// Untimed check (unless `checked` is false; --check none), then the timed runs. Box2D's protocol: hashes
-/// against
-/// --compare-hashes, or written to --hashes-out; native mode: NativeCheck.
+/// An engine as a contender. Its check: Box2D's protocol, hashes against --compare-hashes, or written to
+/// --hashes-out; native mode: NativeCheck.
 template <typename Engine, typename Make>
-int RunEngine(const PeerRun& run, Make make, bool checked = true)
+Contender Contend(const PeerRun& run, Make make)
 {
-    int64_t bad = 0;
-    if (checked && run.args.Get("check", "first") != "none")
-    {
+    const auto check = [&run, make] {
         std::unique_ptr<Engine> engine = make();
         JsonLine j = run.base("check");
-        int64_t calls = 0;
+        int64_t calls = 0, bad = 0;
         if constexpr (kNative<Engine>)
         {
             NativeCheck nc;
@@ -441,32 +438,30 @@ int RunEngine(const PeerRun& run, Make make, bool checked = true)
                     bad ? "MISMATCH" : "exact");
         j.Int("calls_hashed", calls).Int("mismatches", bad);
         AppendLine(run.args.Get("json"), j.Text());
-    }
-    Timings timings{run.engine, {}, {}};
-    for (int r = 0; r < int(run.args.GetInt("repeats", 5)); ++r)
-    {
-        TimedRun(run.loaded, run.args.Get("json"), run.base("run"), timings, make, [](auto&&...) {});
-    }
-    timings.PrintMedians();
-    return bad != 0 ? 3 : 0;
+        return bad;
+    };
+    return Contender{{run.engine, {}, {}}, check, [&run, make](Timings& t) {
+                         TimedRun(run.loaded, run.args.Get("json"), run.base("run"), t, make,
+                                  [](auto&&...) {});
+                     }};
 }
 
-/// RunEngine over PeerEngine<Index> in native mode or Box2D's protocol; `a` are the index's arguments.
+/// Contend over PeerEngine<Index> in native mode or Box2D's protocol; `a` are the index's arguments.
 template <typename Index, typename... A>
-int RunIndex(const PeerRun& run, bool native, float multiplier, const A&... a)
+Contender ContendIndex(const PeerRun& run, bool native, float multiplier, const A&... a)
 {
     if (native)
     {
-        return RunEngine<PeerEngine<Index, true>>(
-            run, [&] { return std::make_unique<PeerEngine<Index, true>>(multiplier, a...); });
+        return Contend<PeerEngine<Index, true>>(
+            run, [=] { return std::make_unique<PeerEngine<Index, true>>(multiplier, a...); });
     }
-    return RunEngine<PeerEngine<Index, false>>(
-        run, [&] { return std::make_unique<PeerEngine<Index, false>>(multiplier, a...); });
+    return Contend<PeerEngine<Index, false>>(
+        run, [=] { return std::make_unique<PeerEngine<Index, false>>(multiplier, a...); });
 }
 
 } // namespace
 
-int RunPeer(const PeerRun& run)
+Contender PeerContender(const PeerRun& run)
 {
     const std::string& e = run.engine;
     const LoadedTrace& loaded = run.loaded;
@@ -481,12 +476,13 @@ int RunPeer(const PeerRun& run)
     const std::string base = e.substr(0, std::min({e.find("-native"), x, m}));
     if (base == "null")
     {
-        return RunEngine<NullEngine>(
-            run, [] { return std::make_unique<NullEngine>(); }, false);
+        Contender c = Contend<NullEngine>(run, [] { return std::make_unique<NullEngine>(); });
+        c.check = nullptr;
+        return c;
     }
     if (base == "stock")
     {
-        return RunEngine<StockEngine>(run, [] { return std::make_unique<StockEngine>(); });
+        return Contend<StockEngine>(run, [] { return std::make_unique<StockEngine>(); });
     }
     if (base == "brute")
     {
@@ -497,7 +493,7 @@ int RunPeer(const PeerRun& run)
                 static_cast<long long>(loaded.steps.proxies), maxProxies);
         }
         using E = CoreEngine<quadphase::BruteForceBroadPhase>;
-        return RunEngine<E>(run, [] { return std::make_unique<E>(); });
+        return Contend<E>(run, [] { return std::make_unique<E>(); });
     }
     if (base == "paper")
     {
@@ -513,10 +509,14 @@ int RunPeer(const PeerRun& run)
         {
             Die(2, "qp-replay: --levels must be auto or 1..9\n");
         }
-        if (run.args.Get("check", "first") != "none")
-        {
+        using E = CoreEngine<PaperQuadtreeBroadPhase>;
+        Contender c = Contend<E>(run, [=] {
+            return std::make_unique<E>(levels, g.bounds, threads, quadphase::Schedule::Static,
+                                       quadphase::bench::PaperPairReport::Buffered);
+        });
+        c.check = [&run, levels, g, threads] {
             PaperChecked checked(levels, g.bounds, threads);
-            Replay(loaded, checked);
+            Replay(run.loaded, checked);
             std::printf("check paper: %lld exact pairs; missed %lld, duplicates %lld, extra %lld\n",
                         static_cast<long long>(checked.exact), static_cast<long long>(checked.missed),
                         static_cast<long long>(checked.duplicates), static_cast<long long>(checked.extra));
@@ -527,15 +527,9 @@ int RunPeer(const PeerRun& run)
                 .Int("extra", checked.extra)
                 .Int("levels", levels);
             AppendLine(run.args.Get("json"), j.Text());
-        }
-        using E = CoreEngine<PaperQuadtreeBroadPhase>;
-        return RunEngine<E>(
-            run,
-            [&] {
-                return std::make_unique<E>(levels, g.bounds, threads, quadphase::Schedule::Static,
-                                           quadphase::bench::PaperPairReport::Buffered);
-            },
-            false);
+            return int64_t(0); // approximate by design: its misses are counted, not failed
+        };
+        return c;
     }
     if (base == "oracle")
     {
@@ -548,7 +542,7 @@ int RunPeer(const PeerRun& run)
         Replay(loaded, *prep);
         prep.reset();
         using E = PeerEngine<OracleIndex, false>;
-        return RunEngine<E>(run, [&] { return std::make_unique<E>(multiplier, pairs, perQuery); });
+        return Contend<E>(run, [=] { return std::make_unique<E>(multiplier, pairs, perQuery); });
     }
 #if QP_HAVE_CHIPMUNK
     if (base == "cp-hash" || base == "cp-tree")
@@ -556,7 +550,7 @@ int RunPeer(const PeerRun& run)
         const bool hash = base == "cp-hash";
         const double cell = cellScale * g.meanSide;
         const int cells = int(std::max<int64_t>(1000, 10 * loaded.steps.proxies));
-        return RunIndex<ChipmunkIndex>(run, native, multiplier, hash, cell, cells);
+        return ContendIndex<ChipmunkIndex>(run, native, multiplier, hash, cell, cells);
     }
 #endif
 #if QP_HAVE_BULLET
@@ -573,7 +567,7 @@ int RunPeer(const PeerRun& run)
         {
             Die(2, "qp-replay: bt-sap runs in native mode only (its aabbTest is a linear scan)\n");
         }
-        return RunIndex<BulletIndex>(run, native, multiplier, native, sap, world, maxProxies);
+        return ContendIndex<BulletIndex>(run, native, multiplier, native, sap, world, maxProxies);
     }
 #endif
     Die(2, "qp-replay: engine '%s' is unknown or not built here (Chipmunk %s, Bullet %s)\n", e.c_str(),
