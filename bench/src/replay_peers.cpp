@@ -46,16 +46,35 @@ namespace
 using quadphase::bench::PaperQuadtreeBroadPhase;
 using PairList = std::vector<std::pair<int32_t, int32_t>>;
 
-void AddKeys(const PairList& pairs, std::vector<uint64_t>& keys)
+/// The last UpdatePairs call's pairs, in recorded ids, for the engines that collect them so.
+struct RecordedPairs
 {
-    for (const auto& p : pairs)
+    size_t PairCount() const { return m_pairs.size(); }
+    void PairKeys(std::vector<uint64_t>& keys) const
     {
-        keys.push_back(PairKey(p.first, p.second));
+        for (const auto& p : m_pairs)
+        {
+            keys.push_back(PairKey(p.first, p.second));
+        }
     }
+    void BeginTimedSteps() {}
+
+protected:
+    PairList m_pairs;
+};
+
+/// The sorted unique pair keys of `engine`'s last call; returns how many pairs it reported more than once.
+template <typename Engine>
+int64_t UniqueKeys(const Engine& engine, std::vector<uint64_t>& keys)
+{
+    engine.PairKeys(keys);
+    const size_t reported = keys.size();
+    HashPairKeys(keys);
+    return int64_t(reported - keys.size());
 }
 
 /// Does nothing: measures the replay loop's own cost (op dispatch, id map, clock reads).
-class NullEngine
+class NullEngine : public RecordedPairs
 {
 public:
     int32_t Create(const Box&, int32_t recorded)
@@ -69,15 +88,12 @@ public:
     void UpdatePairs() {}
     void ShiftOrigin(Vec2) {}
     int32_t ProxyCount() const { return m_live; }
-    size_t PairCount() const { return 0; }
-    void PairKeys(std::vector<uint64_t>&) const {}
-    void BeginTimedSteps() {}
 
 private:
     int32_t m_live = 0;
 };
 
-class StockEngine
+class StockEngine : public RecordedPairs
 {
 public:
     int32_t Create(const Box& tight, int32_t recorded)
@@ -94,14 +110,10 @@ public:
     }
     void ShiftOrigin(Vec2 o) { m_bp.ShiftOrigin(b2Vec2(o.x, o.y)); }
     int32_t ProxyCount() const { return m_bp.GetProxyCount(); }
-    size_t PairCount() const { return m_pairs.size(); }
-    void PairKeys(std::vector<uint64_t>& keys) const { AddKeys(m_pairs, keys); }
-    void BeginTimedSteps() {}
     void AddPair(void* a, void* b) { m_pairs.emplace_back(int32_t(intptr_t(a)), int32_t(intptr_t(b))); }
 
 private:
     b2BroadPhase m_bp;
-    PairList m_pairs;
 };
 
 /// The paper's design beside the quadtree core (exact): counts, per call, the pairs it misses, repeats or
@@ -134,17 +146,13 @@ public:
         m_paper.UpdatePairs();
         m_ref.UpdatePairs();
         std::vector<uint64_t> mine, ref, diff;
-        m_paper.PairKeys(mine);
-        m_ref.PairKeys(ref);
-        const size_t reported = mine.size();
-        HashPairKeys(mine);
-        HashPairKeys(ref);
+        duplicates += UniqueKeys(m_paper, mine);
+        UniqueKeys(m_ref, ref);
         std::set_difference(ref.begin(), ref.end(), mine.begin(), mine.end(), std::back_inserter(diff));
         missed += int64_t(diff.size());
         diff.clear();
         std::set_difference(mine.begin(), mine.end(), ref.begin(), ref.end(), std::back_inserter(diff));
         extra += int64_t(diff.size());
-        duplicates += int64_t(reported - mine.size());
         exact += int64_t(ref.size());
     }
     int32_t ProxyCount() const { return m_paper.ProxyCount(); }
@@ -231,7 +239,7 @@ struct FatBoxes
 /// fat-box pair each step. `multiplier` is the fat boxes' displacement multiplier (native mode's -mM; else
 /// Box2D's).
 template <typename Index, bool kNativeMode>
-class PeerEngine
+class PeerEngine : public RecordedPairs
 {
 public:
     template <typename... A>
@@ -316,9 +324,6 @@ public:
         std::fprintf(stderr, "qp-replay: ShiftOrigin is not supported here\n"), std::exit(1);
     }
     int32_t ProxyCount() const { return m_b.count; }
-    size_t PairCount() const { return m_pairs.size(); }
-    void PairKeys(std::vector<uint64_t>& keys) const { AddKeys(m_pairs, keys); }
-    void BeginTimedSteps() {}
     const FatBoxes& Boxes() const { return m_b; }
 
     std::vector<int32_t>* perQuery = nullptr; // preparing the oracle: pairs per query, and all pairs in order
@@ -337,7 +342,6 @@ private:
     FatBoxes m_b;
     Index m_index;
     std::vector<int32_t> m_moveBuffer;
-    PairList m_pairs;
 };
 
 /// Checks a native engine after every UpdatePairs: its unique pair set against all overlapping fat-box pairs.
@@ -348,12 +352,9 @@ struct NativeCheck : NoObserver
     void AfterUpdatePairs(Engine& engine, bool)
     {
         std::vector<uint64_t> mine, ref;
-        engine.PairKeys(mine);
-        const size_t reported = mine.size();
-        HashPairKeys(mine);
+        duplicates += UniqueKeys(engine, mine);
         engine.Boxes().AllOverlapKeys(ref);
         HashPairKeys(ref);
-        duplicates += int64_t(reported - mine.size());
         if (mine != ref && mismatches++ < 5)
         {
             std::fprintf(stderr, "MISMATCH at UpdatePairs call %lld: %zu pairs, %zu overlapping\n",
