@@ -172,6 +172,18 @@ struct PeerRun
     std::function<JsonLine(const char*)> base;
 };
 
+/// Brute force (--engine brute, or --brute beside the quadtree) is refused above --max-proxies (default 20000),
+/// where it would take too long: exits with 2.
+inline void RefuseLargeBrute(const Args& args, const LoadedTrace& loaded)
+{
+    const long maxProxies = args.GetInt("max-proxies", 20000);
+    if (loaded.steps.proxies > maxProxies)
+    {
+        Die(2, "qp-replay: brute force on %lld proxies (> --max-proxies %ld) refused\n",
+            static_cast<long long>(loaded.steps.proxies), maxProxies);
+    }
+}
+
 /// `run.engine` as a contender (its check and timed runs refer to `run`, which must outlive it). Exits with 2
 /// on an engine that is unknown or not built here, or refused settings.
 Contender PeerContender(const PeerRun& run);

@@ -349,11 +349,7 @@ int main(int argc, char** argv)
     std::vector<CallHash> brute;
     if (checked > 0 && args.Has("brute"))
     {
-        if (index.proxies > args.GetInt("max-proxies", 20000))
-        {
-            Die(2, "qp-replay: --brute on %lld proxies would take too long (--max-proxies)\n",
-                static_cast<long long>(index.proxies));
-        }
+        RefuseLargeBrute(args, loaded);
         CoreEngine<quadphase::BruteForceBroadPhase> engine;
         Replay(loaded, engine, &brute);
         std::printf("brute force: %zu UpdatePairs calls hashed\n", brute.size());

@@ -36,6 +36,7 @@
 #include "peer_indexes.h"
 #include "quadphase/brute_force_broad_phase.h"
 #include "quadphase/fat_policy.h"
+#include "quadphase/proxy_pool.h"
 #include "replay_common.h"
 
 namespace qpbench
@@ -174,93 +175,34 @@ private:
     std::vector<int32_t> m_refId;
 };
 
-/// Fat boxes (FatPolicy) of the live proxies, with recorded ids: what both modes keep beside a foreign index.
-struct FatBoxes
-{
-    quadphase::FatPolicy policy;
-    std::vector<Box> fat;
-    std::vector<int32_t> recorded, freeIds;
-    std::vector<uint8_t> live, buffered;
-    int32_t count = 0;
-
-    int32_t Add(const Box& tight, int32_t rec)
-    {
-        int32_t id = int32_t(fat.size());
-        if (!freeIds.empty())
-        {
-            id = freeIds.back();
-            freeIds.pop_back();
-        }
-        else
-        {
-            fat.emplace_back(), recorded.push_back(-1), live.push_back(0), buffered.push_back(0);
-        }
-        fat[size_t(id)] = quadphase::FattenNew(policy, tight);
-        recorded[size_t(id)] = rec;
-        live[size_t(id)] = 1;
-        ++count;
-        return id;
-    }
-    void Remove(int32_t id)
-    {
-        live[size_t(id)] = 0;
-        --count;
-        freeIds.push_back(id);
-    }
-    /// Every pair of live proxies whose fat boxes overlap, in recorded ids (sort and sweep on minX; untimed).
-    void AllOverlapKeys(std::vector<uint64_t>& keys) const
-    {
-        std::vector<int32_t> order;
-        for (size_t i = 0; i < fat.size(); ++i)
-        {
-            if (live[i])
-            {
-                order.push_back(int32_t(i));
-            }
-        }
-        std::sort(order.begin(), order.end(),
-                  [&](int32_t a, int32_t b) { return fat[size_t(a)].minX < fat[size_t(b)].minX; });
-        for (size_t i = 0; i < order.size(); ++i)
-        {
-            const Box& a = fat[size_t(order[i])];
-            for (size_t j = i + 1; j < order.size() && fat[size_t(order[j])].minX <= a.maxX; ++j)
-            {
-                if (quadphase::Overlaps(a, fat[size_t(order[j])]))
-                {
-                    keys.push_back(PairKey(recorded[size_t(order[i])], recorded[size_t(order[j])]));
-                }
-            }
-        }
-    }
-};
-
-/// A foreign index beside the fat boxes it holds, in either mode (see the file comment): Box2D's protocol
-/// (with OracleIndex, over no index at all), or with kNativeMode the peer's own loop, every overlapping
-/// fat-box pair each step. `multiplier` is the fat boxes' displacement multiplier (native mode's -mM; else
-/// Box2D's).
+/// A foreign index beside the proxies it holds (the core's ProxyPool: fat boxes, recorded ids as user data and
+/// Box2D's move buffer), in either mode (see the file comment): Box2D's protocol (with OracleIndex, over no
+/// index at all), or with kNativeMode the peer's own loop, every overlapping fat-box pair each step.
+/// `multiplier` is the fat boxes' displacement multiplier (native mode's -mM; else Box2D's).
 template <typename Index, bool kNativeMode>
 class PeerEngine : public RecordedPairs
 {
 public:
     template <typename... A>
-    explicit PeerEngine(float multiplier, A&&... a) : m_index(&m_b.fat, std::forward<A>(a)...)
+    explicit PeerEngine(float multiplier, A&&... a) : m_index(&m_pool, std::forward<A>(a)...)
     {
-        m_b.policy.multiplier = multiplier;
+        m_policy.multiplier = multiplier;
     }
     int32_t Create(const Box& tight, int32_t recorded)
     {
-        const int32_t id = m_b.Add(tight, recorded);
-        m_index.Insert(id, m_b.fat[size_t(id)]);
+        const int32_t id = m_pool.Allocate(quadphase::FattenNew(m_policy, tight),
+                                           reinterpret_cast<void*>(intptr_t(recorded)));
+        m_index.Insert(id, m_pool.Fat(id));
         Buffer(id);
         return id;
     }
-    void Destroy(int32_t id) { m_index.Remove(id), m_b.Remove(id); }
+    void Destroy(int32_t id) { m_index.Remove(id), m_pool.Free(id); }
     void Move(int32_t id, const Box& tight, Vec2 d)
     {
         // Box2D's fat-box test; the index is updated (and the proxy buffered) only when the fat box changed.
-        if (quadphase::Refatten(m_b.policy, m_b.fat[size_t(id)], tight, d))
+        if (quadphase::Refatten(m_policy, m_pool.Fat(id), tight, d))
         {
-            m_index.Update(id, m_b.fat[size_t(id)]);
+            m_index.Update(id, m_pool.Fat(id));
             Buffer(id);
         }
     }
@@ -271,77 +213,93 @@ public:
         if constexpr (kNativeMode)
         {
             m_index.AllPairs([&](int32_t a, int32_t b) {
-                if (quadphase::Overlaps(m_b.fat[size_t(a)], m_b.fat[size_t(b)]))
+                if (quadphase::Overlaps(m_pool.Fat(a), m_pool.Fat(b)))
                 {
-                    m_pairs.emplace_back(m_b.recorded[size_t(a)], m_b.recorded[size_t(b)]);
+                    m_pairs.emplace_back(Recorded(a), Recorded(b));
                 }
             });
+            return;
         }
-        else
+        m_pool.LendBuffer(m_work); // the live buffered proxies, in call order, each flagged "in work"
+        for (int32_t q : m_work)
         {
-            for (int32_t q : m_moveBuffer)
+            const size_t before = m_pairs.size();
+            if constexpr (std::is_same_v<Index, OracleIndex>)
             {
-                if (!m_b.live[size_t(q)])
-                {
-                    continue;
-                }
-                const size_t before = m_pairs.size();
-                if constexpr (std::is_same_v<Index, OracleIndex>)
-                {
-                    m_index.Append(m_pairs);
-                }
-                else
-                {
-                    const Box qb = m_b.fat[size_t(q)];
-                    m_index.Query(qb, [&](int32_t o) {
-                        // Box2D's rule: when both are buffered, only the query of the smaller id reports
-                        // the pair.
-                        if (o != q && m_b.live[size_t(o)] && !(m_b.buffered[size_t(o)] && o < q) &&
-                            quadphase::Overlaps(m_b.fat[size_t(o)], qb))
-                        {
-                            m_pairs.emplace_back(m_b.recorded[size_t(q)], m_b.recorded[size_t(o)]);
-                        }
-                    });
-                }
-                if (perQuery != nullptr)
-                {
-                    perQuery->push_back(int32_t(m_pairs.size() - before));
-                }
+                m_index.Append(m_pairs);
             }
-            if (allPairs != nullptr)
+            else
             {
-                allPairs->insert(allPairs->end(), m_pairs.begin(), m_pairs.end());
+                const Box qb = m_pool.Fat(q);
+                m_index.Query(qb, [&](int32_t o) {
+                    // Box2D's rule: when both are buffered, only the query of the smaller id reports the pair.
+                    if (o != q && m_pool.IsLive(o) && !(m_pool.InWork(o) && o < q) &&
+                        quadphase::Overlaps(m_pool.Fat(o), qb))
+                    {
+                        m_pairs.emplace_back(Recorded(q), Recorded(o));
+                    }
+                });
             }
-            for (int32_t q : m_moveBuffer)
+            if (perQuery != nullptr)
             {
-                m_b.buffered[size_t(q)] = 0;
+                perQuery->push_back(int32_t(m_pairs.size() - before));
             }
-            m_moveBuffer.clear();
         }
+        if (allPairs != nullptr)
+        {
+            allPairs->insert(allPairs->end(), m_pairs.begin(), m_pairs.end());
+        }
+        m_pool.ReturnBuffer(m_work);
     }
     void ShiftOrigin(Vec2)
     {
         std::fprintf(stderr, "qp-replay: ShiftOrigin is not supported here\n"), std::exit(1);
     }
-    int32_t ProxyCount() const { return m_b.count; }
-    const FatBoxes& Boxes() const { return m_b; }
+    int32_t ProxyCount() const { return m_pool.LiveCount(); }
+
+    /// Every pair of live proxies whose fat boxes overlap, in recorded ids (sort and sweep on minX; untimed).
+    void AllOverlapKeys(std::vector<uint64_t>& keys) const
+    {
+        std::vector<int32_t> order;
+        for (int32_t id = 0; id < m_pool.IdBound(); ++id)
+        {
+            if (m_pool.IsLive(id))
+            {
+                order.push_back(id);
+            }
+        }
+        std::sort(order.begin(), order.end(),
+                  [&](int32_t a, int32_t b) { return m_pool.Fat(a).minX < m_pool.Fat(b).minX; });
+        for (size_t i = 0; i < order.size(); ++i)
+        {
+            const Box& a = m_pool.Fat(order[i]);
+            for (size_t j = i + 1; j < order.size() && m_pool.Fat(order[j]).minX <= a.maxX; ++j)
+            {
+                if (quadphase::Overlaps(a, m_pool.Fat(order[j])))
+                {
+                    keys.push_back(PairKey(Recorded(order[i]), Recorded(order[j])));
+                }
+            }
+        }
+    }
 
     std::vector<int32_t>* perQuery = nullptr; // preparing the oracle: pairs per query, and all pairs in order
     PairList* allPairs = nullptr;
 
 private:
+    int32_t Recorded(int32_t id) const { return int32_t(intptr_t(m_pool.UserData(id))); }
     /// Into Box2D's move buffer (native mode has none: it reports every pair anyway).
     void Buffer(int32_t id)
     {
-        if (!kNativeMode && !m_b.buffered[size_t(id)])
+        if (!kNativeMode)
         {
-            m_b.buffered[size_t(id)] = 1;
-            m_moveBuffer.push_back(id);
+            m_pool.Buffer(id);
         }
     }
-    FatBoxes m_b;
+    quadphase::FatPolicy m_policy;
+    quadphase::ProxyPool m_pool; // before m_index, which keeps its address
     Index m_index;
-    std::vector<int32_t> m_moveBuffer;
+    std::vector<int32_t> m_work;
 };
 
 /// Checks a native engine after every UpdatePairs: its unique pair set against all overlapping fat-box pairs.
@@ -353,7 +311,7 @@ struct NativeCheck : NoObserver
     {
         std::vector<uint64_t> mine, ref;
         duplicates += UniqueKeys(engine, mine);
-        engine.Boxes().AllOverlapKeys(ref);
+        engine.AllOverlapKeys(ref);
         HashPairKeys(ref);
         if (mine != ref && mismatches++ < 5)
         {
@@ -487,12 +445,7 @@ Contender PeerContender(const PeerRun& run)
     }
     if (base == "brute")
     {
-        const long maxProxies = run.args.GetInt("max-proxies", 20000);
-        if (loaded.steps.proxies > maxProxies)
-        {
-            Die(2, "qp-replay: brute force on %lld proxies (> --max-proxies %ld) refused\n",
-                static_cast<long long>(loaded.steps.proxies), maxProxies);
-        }
+        RefuseLargeBrute(run.args, loaded);
         using E = CoreEngine<quadphase::BruteForceBroadPhase>;
         return Contend<E>(run, [] { return std::make_unique<E>(); });
     }
