@@ -338,9 +338,7 @@ Geometry Measure(const LoadedTrace& loaded)
     for (const TraceOp& op : loaded.trace.Ops())
     {
         const Box& b = op.box;
-        if ((op.kind != TraceOp::Create && op.kind != TraceOp::Move) ||
-            !(std::isfinite(b.minX) && std::isfinite(b.minY) && std::isfinite(b.maxX) &&
-              std::isfinite(b.maxY)))
+        if ((op.kind != TraceOp::Create && op.kind != TraceOp::Move) || !quadphase::IsFinite(b))
         {
             continue;
         }
@@ -363,11 +361,14 @@ constexpr bool kNative = false;
 template <typename Index>
 constexpr bool kNative<PeerEngine<Index, true>> = true;
 
-/// An engine as a contender. Its check: Box2D's protocol, hashes against --compare-hashes, or written to
+/// An engine built from `a` as a contender. Its check: Box2D's protocol, hashes against --compare-hashes, or written to
 /// --hashes-out; native mode: NativeCheck.
-template <typename Engine, typename Make>
-Contender Contend(const PeerRun& run, Make make)
+template <typename Engine, typename... A>
+Contender Contend(const PeerRun& run, const A&... a)
 {
+    const auto make = [=] {
+        return std::make_unique<Engine>(a...);
+    };
     const auto check = [&run, make] {
         std::unique_ptr<Engine> engine = make();
         JsonLine j = run.base("check");
@@ -405,17 +406,12 @@ Contender Contend(const PeerRun& run, Make make)
                      }};
 }
 
-/// Contend over PeerEngine<Index> in native mode or Box2D's protocol; `a` are the index's arguments.
+/// Contend over PeerEngine<Index> in native mode or Box2D's protocol; `a` are the engine's arguments.
 template <typename Index, typename... A>
-Contender ContendIndex(const PeerRun& run, bool native, float multiplier, const A&... a)
+Contender ContendIndex(const PeerRun& run, bool native, const A&... a)
 {
-    if (native)
-    {
-        return Contend<PeerEngine<Index, true>>(
-            run, [=] { return std::make_unique<PeerEngine<Index, true>>(multiplier, a...); });
-    }
-    return Contend<PeerEngine<Index, false>>(
-        run, [=] { return std::make_unique<PeerEngine<Index, false>>(multiplier, a...); });
+    return native ? Contend<PeerEngine<Index, true>>(run, a...)
+                  : Contend<PeerEngine<Index, false>>(run, a...);
 }
 
 } // namespace
@@ -435,19 +431,19 @@ Contender PeerContender(const PeerRun& run)
     const std::string base = e.substr(0, std::min({e.find("-native"), x, m}));
     if (base == "null")
     {
-        Contender c = Contend<NullEngine>(run, [] { return std::make_unique<NullEngine>(); });
+        Contender c = Contend<NullEngine>(run);
         c.check = nullptr;
         return c;
     }
     if (base == "stock")
     {
-        return Contend<StockEngine>(run, [] { return std::make_unique<StockEngine>(); });
+        return Contend<StockEngine>(run);
     }
     if (base == "brute")
     {
         RefuseLargeBrute(run.args, loaded);
         using E = CoreEngine<quadphase::BruteForceBroadPhase>;
-        return Contend<E>(run, [] { return std::make_unique<E>(); });
+        return Contend<E>(run);
     }
     if (base == "paper")
     {
@@ -464,10 +460,8 @@ Contender PeerContender(const PeerRun& run)
             Die(2, "qp-replay: --levels must be auto or 1..9\n");
         }
         using E = CoreEngine<PaperQuadtreeBroadPhase>;
-        Contender c = Contend<E>(run, [=] {
-            return std::make_unique<E>(levels, g.bounds, threads, quadphase::Schedule::Static,
-                                       quadphase::bench::PaperPairReport::Buffered);
-        });
+        Contender c = Contend<E>(run, levels, g.bounds, threads, quadphase::Schedule::Static,
+                                 quadphase::bench::PaperPairReport::Buffered);
         c.check = [&run, levels, g, threads] {
             PaperChecked checked(levels, g.bounds, threads);
             Replay(run.loaded, checked);
@@ -496,7 +490,7 @@ Contender PeerContender(const PeerRun& run)
         Replay(loaded, *prep);
         prep.reset();
         using E = PeerEngine<OracleIndex, false>;
-        return Contend<E>(run, [=] { return std::make_unique<E>(multiplier, pairs, perQuery); });
+        return Contend<E>(run, multiplier, pairs, perQuery);
     }
 #if QP_HAVE_CHIPMUNK
     if (base == "cp-hash" || base == "cp-tree")
