@@ -1,6 +1,7 @@
 // qp-replay's engine over a quadphase::BroadPhaseInterface implementation (replay_common.h's Engine concept),
-// with the buffered-proxy tracking the quadtree's checking run uses; and the entry point of the other engines
-// (replay_peers.cpp lists them and their two modes).
+// with the buffered-proxy tracking the quadtree's checking run uses; the one checking-then-timed run path every
+// engine goes through (Contender, Drive); and the entry point of the other engines (replay_peers.cpp lists them
+// and their two modes).
 #pragma once
 
 #include <functional>

@@ -41,6 +41,8 @@ using quadphase::Schedule;
 
 // Indexed by quadphase::Schedule.
 const char* const kScheduleNames[] = {"static", "dynamic", "guided", "auto"};
+static_assert(omp_sched_static == 1 && omp_sched_dynamic == 2 && omp_sched_guided == 3,
+              "--omp-overhead's order");
 
 int ToInt(const std::string& key, const std::string& v)
 {
@@ -249,18 +251,17 @@ int main(int argc, char** argv)
     }
     if (args.Has("omp-overhead"))
     {
-        // The fixed cost FindPairs pays to go parallel, for the threshold discussion.
-        const std::pair<const char*, omp_sched_t> kinds[] = {
-            {"static", omp_sched_static}, {"dynamic", omp_sched_dynamic}, {"guided", omp_sched_guided}};
+        // The fixed cost FindPairs pays to go parallel, for the threshold discussion. Schedules static, dynamic
+        // and guided: omp_sched_t numbers them from 1 in kScheduleNames' order.
         for (int blocks : {1, 8, 64})
         {
-            for (const auto& k : kinds)
+            for (int k = 0; k < 3; ++k)
             {
-                const double us = ParallelRegionMicros(2, k.second, blocks);
-                std::printf("omp parallel region, 2 threads, %s, %d empty iterations: %.2f us\n", k.first,
-                            blocks, us);
+                const double us = ParallelRegionMicros(2, omp_sched_t(k + 1), blocks);
+                std::printf("omp parallel region, 2 threads, %s, %d empty iterations: %.2f us\n",
+                            kScheduleNames[k], blocks, us);
                 AppendLine(jsonPath, toolJson("omp_overhead")
-                                         .Str("schedule", k.first)
+                                         .Str("schedule", kScheduleNames[k])
                                          .Int("threads", 2)
                                          .Int("blocks", blocks)
                                          .Num("us", us)
