@@ -327,14 +327,14 @@ int main(int argc, char** argv)
     };
     // Checking runs: the first configuration (first) or every one (all).
     const size_t checked = check == "none" ? 0 : check == "first" ? 1 : configs.size();
-    const PeerRun run{args, loaded, engineName, [&](const char* kind) {
-                          JsonLine j = baseJson(kind);
-                          j.Str("engine", engineName).Int("threads", int(args.GetInt("threads", 1)));
-                          return j;
-                      }};
     std::vector<Contender> contenders;
     if (engineName != "quadtree")
     {
+        const PeerRun run{args, loaded, engineName, [&](const char* kind) {
+                              JsonLine j = baseJson(kind);
+                              j.Str("engine", engineName).Int("threads", int(args.GetInt("threads", 1)));
+                              return j;
+                          }};
         contenders.push_back(PeerContender(run));
         Drive(contenders, checked, repeats);
         return 0;
