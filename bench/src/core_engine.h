@@ -1,6 +1,7 @@
 // qp-replay's engine over a quadphase::BroadPhaseInterface implementation (replay_common.h's Engine concept),
-// with the buffered-proxy tracking the quadtree's checking run uses; and the entry point of the other engines
-// (replay_peers.cpp lists them and their two modes).
+// with the buffered-proxy tracking the quadtree's checking run uses; the one checking-then-timed run path every
+// engine goes through (Contender, Drive); and the entry point of the other engines (replay_peers.cpp lists them
+// and their two modes).
 #pragma once
 
 #include <functional>
@@ -126,10 +127,44 @@ private:
     std::vector<ProxyId> m_buffered;
 };
 
-/// What a peer's run needs: the options (--check, --repeats, --json, --hashes-out, --compare-hashes,
-/// --levels,
-/// --threads, ...), the trace, the --engine name and a JSON line with the common fields (kind: "run",
-/// "check").
+/// One engine configuration of a run: its timings (named for the printed lines), its untimed checking run
+/// (empty: none; it appends its JSON line and returns its mismatching UpdatePairs calls) and one timed run.
+struct Contender
+{
+    Timings timings;
+    std::function<int64_t()> check;
+    std::function<void(Timings&)> timed;
+};
+
+/// The run of every engine: the checking runs of the first `checked` contenders, then `repeats` rounds of one
+/// timed run of each (in order within each round, so slow phases of a noisy machine hit every contender alike),
+/// then the medians. Exits with 3 after a mismatch.
+inline void Drive(std::vector<Contender>& contenders, size_t checked, int repeats)
+{
+    int64_t mismatches = 0;
+    for (size_t i = 0; i < std::min(checked, contenders.size()); ++i)
+    {
+        mismatches += contenders[i].check ? contenders[i].check() : 0;
+    }
+    for (int r = 0; r < repeats; ++r)
+    {
+        for (Contender& c : contenders)
+        {
+            c.timed(c.timings);
+        }
+    }
+    for (const Contender& c : contenders)
+    {
+        c.timings.PrintMedians();
+    }
+    if (mismatches != 0)
+    {
+        Die(3, "qp-replay: %lld MISMATCHING UpdatePairs calls\n", static_cast<long long>(mismatches));
+    }
+}
+
+/// What a peer's run needs: the options (--hashes-out, --compare-hashes, --levels, --threads, ...), the trace,
+/// the --engine name and a JSON line with the common fields (kind: "run", "check").
 struct PeerRun
 {
     const Args& args;
@@ -138,8 +173,20 @@ struct PeerRun
     std::function<JsonLine(const char*)> base;
 };
 
-/// Checks (untimed) and times `run.engine` on the trace; returns the exit code (3: a pair-set mismatch).
-/// Exits with 2 on an engine that is unknown or not built here, or refused settings.
-int RunPeer(const PeerRun& run);
+/// Brute force (--engine brute, or --brute beside the quadtree) is refused above --max-proxies (default 20000),
+/// where it would take too long: exits with 2.
+inline void RefuseLargeBrute(const Args& args, const LoadedTrace& loaded)
+{
+    const long maxProxies = args.GetInt("max-proxies", 20000);
+    if (loaded.steps.proxies > maxProxies)
+    {
+        Die(2, "qp-replay: brute force on %lld proxies (> --max-proxies %ld) refused\n",
+            static_cast<long long>(loaded.steps.proxies), maxProxies);
+    }
+}
+
+/// `run.engine` as a contender (its check and timed runs refer to `run`, which must outlive it). Exits with 2
+/// on an engine that is unknown or not built here, or refused settings.
+Contender PeerContender(const PeerRun& run);
 
 } // namespace qpbench

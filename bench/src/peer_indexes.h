@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "quadphase/box.h"
+#include "quadphase/proxy_pool.h"
 #include "quadphase/quadtree_broad_phase.h"
 
 #if QP_HAVE_CHIPMUNK
@@ -32,7 +33,7 @@ using quadphase::Box;
 class QuadIndex
 {
 public:
-    explicit QuadIndex(const std::vector<Box>*) {}
+    explicit QuadIndex(const quadphase::ProxyPool*) {}
     void Insert(int32_t id, const Box& fat)
     {
         if (size_t(id) >= m_ids.size())
@@ -66,15 +67,15 @@ private:
 /// Chipmunk2D 7: cpSpaceHash (cell side `cell`, `cells` buckets) or cpBBTree (no velocity function).
 /// Chipmunk's bounding-box callback carries no context: the current engine's boxes are a global (one engine
 /// at a time).
-inline const std::vector<Box>* g_cpBoxes = nullptr;
+inline const quadphase::ProxyPool* g_cpPool = nullptr;
 
 class ChipmunkIndex
 {
 public:
-    ChipmunkIndex(const std::vector<Box>* boxes, bool hash, double cell, int cells)
+    ChipmunkIndex(const quadphase::ProxyPool* pool, bool hash, double cell, int cells)
         : m_index(hash ? cpSpaceHashNew(cell, cells, BB, nullptr) : cpBBTreeNew(BB, nullptr))
     {
-        g_cpBoxes = boxes;
+        g_cpPool = pool;
     }
     ~ChipmunkIndex() { cpSpatialIndexFree(m_index); }
     ChipmunkIndex(const ChipmunkIndex&) = delete;
@@ -99,7 +100,7 @@ public:
 private:
     static cpBB BB(void* obj)
     {
-        const Box& b = (*g_cpBoxes)[size_t(uintptr_t(obj) - 1)];
+        const Box& b = g_cpPool->Fat(Id(obj));
         return cpBBNew(b.minX, b.minY, b.maxX, b.maxY);
     }
     template <typename Fn>
@@ -127,7 +128,7 @@ private:
 class BulletIndex
 {
 public:
-    BulletIndex(const std::vector<Box>*, bool native, bool sap, const Box& world, int maxProxies)
+    BulletIndex(const quadphase::ProxyPool*, bool native, bool sap, const Box& world, int maxProxies)
     {
         if (sap)
         {
@@ -210,7 +211,7 @@ private:
 class OracleIndex
 {
 public:
-    OracleIndex(const std::vector<Box>*, std::vector<std::pair<int32_t, int32_t>> pairs,
+    OracleIndex(const quadphase::ProxyPool*, std::vector<std::pair<int32_t, int32_t>> pairs,
                 std::vector<int32_t> perQuery)
         : m_pairs(std::move(pairs)), m_perQuery(std::move(perQuery))
     {

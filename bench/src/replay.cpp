@@ -41,6 +41,8 @@ using quadphase::Schedule;
 
 // Indexed by quadphase::Schedule.
 const char* const kScheduleNames[] = {"static", "dynamic", "guided", "auto"};
+static_assert(omp_sched_static == 1 && omp_sched_dynamic == 2 && omp_sched_guided == 3,
+              "--omp-overhead's order");
 
 int ToInt(const std::string& key, const std::string& v)
 {
@@ -249,18 +251,17 @@ int main(int argc, char** argv)
     }
     if (args.Has("omp-overhead"))
     {
-        // The fixed cost FindPairs pays to go parallel, for the threshold discussion.
-        const std::pair<const char*, omp_sched_t> kinds[] = {
-            {"static", omp_sched_static}, {"dynamic", omp_sched_dynamic}, {"guided", omp_sched_guided}};
+        // The fixed cost FindPairs pays to go parallel, for the threshold discussion. Schedules static, dynamic
+        // and guided: omp_sched_t numbers them from 1 in kScheduleNames' order.
         for (int blocks : {1, 8, 64})
         {
-            for (const auto& k : kinds)
+            for (int k = 0; k < 3; ++k)
             {
-                const double us = ParallelRegionMicros(2, k.second, blocks);
-                std::printf("omp parallel region, 2 threads, %s, %d empty iterations: %.2f us\n", k.first,
-                            blocks, us);
+                const double us = ParallelRegionMicros(2, omp_sched_t(k + 1), blocks);
+                std::printf("omp parallel region, 2 threads, %s, %d empty iterations: %.2f us\n",
+                            kScheduleNames[k], blocks, us);
                 AppendLine(jsonPath, toolJson("omp_overhead")
-                                         .Str("schedule", k.first)
+                                         .Str("schedule", kScheduleNames[k])
                                          .Int("threads", 2)
                                          .Int("blocks", blocks)
                                          .Num("us", us)
@@ -324,13 +325,19 @@ int main(int argc, char** argv)
             .Int("warmup", index.warmup);
         return j;
     };
+    // Checking runs: the first configuration (first) or every one (all).
+    const size_t checked = check == "none" ? 0 : check == "first" ? 1 : configs.size();
+    std::vector<Contender> contenders;
     if (engineName != "quadtree")
     {
-        return RunPeer(PeerRun{args, loaded, engineName, [&](const char* kind) {
-                                   JsonLine j = baseJson(kind);
-                                   j.Str("engine", engineName).Int("threads", int(args.GetInt("threads", 1)));
-                                   return j;
-                               }});
+        const PeerRun run{args, loaded, engineName, [&](const char* kind) {
+                              JsonLine j = baseJson(kind);
+                              j.Str("engine", engineName).Int("threads", int(args.GetInt("threads", 1)));
+                              return j;
+                          }};
+        contenders.push_back(PeerContender(run));
+        Drive(contenders, checked, repeats);
+        return 0;
     }
     auto configJson = [&](JsonLine& j, const Config& c) {
         j.Int("threads", c.threads)
@@ -340,29 +347,22 @@ int main(int argc, char** argv)
             .Int("threshold", c.parallelThreshold);
     };
 
-    int64_t mismatches = 0;
-    // Untimed checking runs.
-    if (check != "none")
+    std::vector<CallHash> brute;
+    if (checked > 0 && args.Has("brute"))
     {
-        std::vector<CallHash> brute;
-        if (args.Has("brute"))
-        {
-            if (index.proxies > args.GetInt("max-proxies", 20000))
-            {
-                Die(2, "qp-replay: --brute on %lld proxies would take too long (--max-proxies)\n",
-                    static_cast<long long>(index.proxies));
-            }
-            CoreEngine<quadphase::BruteForceBroadPhase> engine;
-            Replay(loaded, engine, &brute);
-            std::printf("brute force: %zu UpdatePairs calls hashed\n", brute.size());
-        }
-        const std::string compareWith = args.Get("compare-hashes");
-        const std::vector<CallHash> reference = LoadHashesOrDie(compareWith);
-        const size_t checked = check == "first" ? 1 : configs.size();
-        for (size_t ci = 0; ci < checked; ++ci)
-        {
-            const Config& c = configs[ci];
-            CoreEngine<quadphase::QuadtreeBroadPhase> engine(quadphase::FatPolicy{}, c);
+        RefuseLargeBrute(args, loaded);
+        CoreEngine<quadphase::BruteForceBroadPhase> engine;
+        Replay(loaded, engine, &brute);
+        std::printf("brute force: %zu UpdatePairs calls hashed\n", brute.size());
+    }
+    const std::string compareWith = args.Get("compare-hashes");
+    const std::vector<CallHash> reference = LoadHashesOrDie(checked > 0 ? compareWith : "");
+    using Quadtree = CoreEngine<quadphase::QuadtreeBroadPhase>;
+    for (const Config& c : configs)
+    {
+        const bool first = contenders.empty();
+        const auto checkRun = [&, c, first] {
+            Quadtree engine(quadphase::FatPolicy{}, c);
             engine.SetTracking(true);
             QueryStats qs;
             std::vector<CallHash> hashes;
@@ -377,8 +377,7 @@ int main(int argc, char** argv)
             {
                 bad += CompareHashes(hashes, reference, "quadtree", compareWith.c_str());
             }
-            mismatches += bad;
-            if (ci == 0 && args.Has("hashes-out"))
+            if (first && args.Has("hashes-out"))
             {
                 SaveHashesOrDie(args.Get("hashes-out"), hashes);
             }
@@ -425,21 +424,9 @@ int main(int argc, char** argv)
                 j.Array("calls_buffered", qs.callBuffered);
             }
             AppendLine(jsonPath, j.Text());
-        }
-    }
-
-    // Timed runs: configurations interleaved within each round.
-    using Quadtree = CoreEngine<quadphase::QuadtreeBroadPhase>;
-    std::vector<Timings> timings;
-    for (const Config& c : configs)
-    {
-        timings.push_back(Timings{Describe(c), {}, {}});
-    }
-    for (int r = 0; r < repeats; ++r)
-    {
-        for (size_t ci = 0; ci < configs.size(); ++ci)
-        {
-            const Config& c = configs[ci];
+            return bad;
+        };
+        const auto timed = [&, c](Timings& t) {
             JsonLine j = baseJson("run");
             j.Str("engine", "quadtree");
             configJson(j, c);
@@ -447,8 +434,7 @@ int main(int argc, char** argv)
                 return std::make_unique<Quadtree>(quadphase::FatPolicy{}, c);
             };
             TimedRun(
-                loaded, jsonPath, j, timings[ci], make,
-                [&](JsonLine& line, Quadtree& engine, const RunResult& result) {
+                loaded, jsonPath, j, t, make, [&](JsonLine& line, Quadtree& engine, const RunResult& result) {
                     const quadphase::Stats st = engine.Get().GetStats();
                     // updateSeconds: the time the core itself booked as grid maintenance during the timed steps
                     // (MoveProxy timing is off, so with deferred maintenance this is the batched re-placement inside
@@ -464,15 +450,9 @@ int main(int argc, char** argv)
                         line.Array("calls_ns", result.callNs);
                     }
                 });
-        }
+        };
+        contenders.push_back(Contender{{Describe(c), {}, {}}, checkRun, timed});
     }
-    for (const Timings& t : timings)
-    {
-        t.PrintMedians();
-    }
-    if (mismatches != 0)
-    {
-        Die(3, "qp-replay: %lld MISMATCHING UpdatePairs calls\n", static_cast<long long>(mismatches));
-    }
+    Drive(contenders, checked, repeats);
     return 0;
 }

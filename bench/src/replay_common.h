@@ -432,42 +432,60 @@ RunResult Replay(const LoadedTrace& loaded, Engine& engine, std::vector<CallHash
         hashes->clear();
     }
 
-    auto check = [&](bool timed) {
-        if (hashes != nullptr)
-        {
-            keys.clear();
-            engine.PairKeys(keys);
-            hashes->push_back(HashPairKeys(keys));
-        }
-        if (observer != nullptr)
-        {
-            observer->AfterUpdatePairs(engine, timed);
-        }
-    };
-
     RunResult result;
-    const int64_t setupStart = NowNs();
-    const size_t firstTimed = size_t(index.boundary[size_t(index.warmup)]);
-    for (size_t i = 0; i < firstTimed; ++i)
-    {
-        const TraceOp& op = ops[i];
-        if (op.kind == TraceOp::UpdatePairs)
+    // Replays ops [begin, end) into `sample` (timed: also the calls' own times); returns the time spent on
+    // checking, which the step's time excludes.
+    const auto replayOps = [&](size_t begin, size_t end, bool timed, StepSample& sample) {
+        int64_t excluded = 0;
+        for (size_t i = begin; i < end; ++i)
         {
+            // The ops stream from memory (32 B each, 3.2 MB per step on particles 100k) while the engine's
+            // own data fills the caches; without this hint the loop stalled on them: particles 100k, 1
+            // thread, 3 interleaved runs each: 4.68-4.86 -> 4.21-4.29 ms per step, the null engine 0.23 ->
+            // 0.20 ms. Stock's replay (40-41 ms per step) did not measurably change.
+            __builtin_prefetch(ops.data() + std::min(i + 32, ops.size() - 1));
+            const TraceOp& op = ops[i];
+            if (op.kind != TraceOp::UpdatePairs)
+            {
+                ApplyOp(engine, op, map);
+                sample.ops += 1;
+                continue;
+            }
             if (observer != nullptr)
             {
-                observer->BeforeUpdatePairs(engine, false);
+                const int64_t o0 = NowNs();
+                observer->BeforeUpdatePairs(engine, timed);
+                excluded += NowNs() - o0;
             }
+            const int64_t f0 = NowNs();
             engine.UpdatePairs();
-            if (checking)
+            const int64_t f1 = NowNs();
+            sample.findNs += f1 - f0;
+            if (timed)
             {
-                check(false);
+                result.callNs.push_back(int32_t(std::min<int64_t>(f1 - f0, INT32_MAX)));
             }
+            sample.calls += 1;
+            sample.pairs += int64_t(engine.PairCount());
+            if (hashes != nullptr)
+            {
+                keys.clear();
+                engine.PairKeys(keys);
+                hashes->push_back(HashPairKeys(keys));
+            }
+            if (observer != nullptr)
+            {
+                observer->AfterUpdatePairs(engine, timed);
+            }
+            excluded += checking ? NowNs() - f1 : 0;
         }
-        else
-        {
-            ApplyOp(engine, op, map);
-        }
-    }
+        return excluded;
+    };
+
+    const int64_t setupStart = NowNs();
+    const size_t firstTimed = size_t(index.boundary[size_t(index.warmup)]);
+    StepSample setup;
+    replayOps(0, firstTimed, false, setup);
     result.setupSeconds = double(NowNs() - setupStart) * 1e-9;
     engine.BeginTimedSteps();
 
@@ -484,47 +502,12 @@ RunResult Replay(const LoadedTrace& loaded, Engine& engine, std::vector<CallHash
     }
     for (int s = 0; s < index.steps; ++s)
     {
-        const size_t begin = size_t(index.boundary[size_t(index.warmup + s)]);
-        const size_t end = size_t(index.boundary[size_t(index.warmup + s + 1)]);
         StepSample& sample = result.steps[size_t(s)];
         sample.proxies = engine.ProxyCount();
-        int64_t excluded = 0;
         const int64_t t0 = NowNs();
-        for (size_t i = begin; i < end; ++i)
-        {
-            // The ops stream from memory (32 B each, 3.2 MB per step on particles 100k) while the engine's
-            // own data fills the caches; without this hint the loop stalled on them: particles 100k, 1
-            // thread, 3 interleaved runs each: 4.68-4.86 -> 4.21-4.29 ms per step, the null engine 0.23 ->
-            // 0.20 ms. Stock's replay (40-41 ms per step) did not measurably change.
-            __builtin_prefetch(ops.data() + std::min(i + 32, ops.size() - 1));
-            const TraceOp& op = ops[i];
-            if (op.kind == TraceOp::UpdatePairs)
-            {
-                if (observer != nullptr)
-                {
-                    const int64_t o0 = NowNs();
-                    observer->BeforeUpdatePairs(engine, true);
-                    excluded += NowNs() - o0;
-                }
-                const int64_t f0 = NowNs();
-                engine.UpdatePairs();
-                const int64_t f1 = NowNs();
-                sample.findNs += f1 - f0;
-                result.callNs.push_back(int32_t(std::min<int64_t>(f1 - f0, INT32_MAX)));
-                sample.calls += 1;
-                sample.pairs += int64_t(engine.PairCount());
-                if (checking)
-                {
-                    check(true);
-                    excluded += NowNs() - f1;
-                }
-            }
-            else
-            {
-                ApplyOp(engine, op, map);
-                sample.ops += 1;
-            }
-        }
+        const int64_t excluded =
+            replayOps(size_t(index.boundary[size_t(index.warmup + s)]),
+                      size_t(index.boundary[size_t(index.warmup + s + 1)]), true, sample);
         sample.ns = NowNs() - t0 - excluded;
     }
     if (!checking)

@@ -36,6 +36,7 @@
 #include "peer_indexes.h"
 #include "quadphase/brute_force_broad_phase.h"
 #include "quadphase/fat_policy.h"
+#include "quadphase/proxy_pool.h"
 #include "replay_common.h"
 
 namespace qpbench
@@ -46,16 +47,35 @@ namespace
 using quadphase::bench::PaperQuadtreeBroadPhase;
 using PairList = std::vector<std::pair<int32_t, int32_t>>;
 
-void AddKeys(const PairList& pairs, std::vector<uint64_t>& keys)
+/// The last UpdatePairs call's pairs, in recorded ids, for the engines that collect them so.
+struct RecordedPairs
 {
-    for (const auto& p : pairs)
+    size_t PairCount() const { return m_pairs.size(); }
+    void PairKeys(std::vector<uint64_t>& keys) const
     {
-        keys.push_back(PairKey(p.first, p.second));
+        for (const auto& p : m_pairs)
+        {
+            keys.push_back(PairKey(p.first, p.second));
+        }
     }
+    void BeginTimedSteps() {}
+
+protected:
+    PairList m_pairs;
+};
+
+/// The sorted unique pair keys of `engine`'s last call; returns how many pairs it reported more than once.
+template <typename Engine>
+int64_t UniqueKeys(const Engine& engine, std::vector<uint64_t>& keys)
+{
+    engine.PairKeys(keys);
+    const size_t reported = keys.size();
+    HashPairKeys(keys);
+    return int64_t(reported - keys.size());
 }
 
 /// Does nothing: measures the replay loop's own cost (op dispatch, id map, clock reads).
-class NullEngine
+class NullEngine : public RecordedPairs
 {
 public:
     int32_t Create(const Box&, int32_t recorded)
@@ -69,15 +89,12 @@ public:
     void UpdatePairs() {}
     void ShiftOrigin(Vec2) {}
     int32_t ProxyCount() const { return m_live; }
-    size_t PairCount() const { return 0; }
-    void PairKeys(std::vector<uint64_t>&) const {}
-    void BeginTimedSteps() {}
 
 private:
     int32_t m_live = 0;
 };
 
-class StockEngine
+class StockEngine : public RecordedPairs
 {
 public:
     int32_t Create(const Box& tight, int32_t recorded)
@@ -94,14 +111,10 @@ public:
     }
     void ShiftOrigin(Vec2 o) { m_bp.ShiftOrigin(b2Vec2(o.x, o.y)); }
     int32_t ProxyCount() const { return m_bp.GetProxyCount(); }
-    size_t PairCount() const { return m_pairs.size(); }
-    void PairKeys(std::vector<uint64_t>& keys) const { AddKeys(m_pairs, keys); }
-    void BeginTimedSteps() {}
     void AddPair(void* a, void* b) { m_pairs.emplace_back(int32_t(intptr_t(a)), int32_t(intptr_t(b))); }
 
 private:
     b2BroadPhase m_bp;
-    PairList m_pairs;
 };
 
 /// The paper's design beside the quadtree core (exact): counts, per call, the pairs it misses, repeats or
@@ -134,17 +147,13 @@ public:
         m_paper.UpdatePairs();
         m_ref.UpdatePairs();
         std::vector<uint64_t> mine, ref, diff;
-        m_paper.PairKeys(mine);
-        m_ref.PairKeys(ref);
-        const size_t reported = mine.size();
-        HashPairKeys(mine);
-        HashPairKeys(ref);
+        duplicates += UniqueKeys(m_paper, mine);
+        UniqueKeys(m_ref, ref);
         std::set_difference(ref.begin(), ref.end(), mine.begin(), mine.end(), std::back_inserter(diff));
         missed += int64_t(diff.size());
         diff.clear();
         std::set_difference(mine.begin(), mine.end(), ref.begin(), ref.end(), std::back_inserter(diff));
         extra += int64_t(diff.size());
-        duplicates += int64_t(reported - mine.size());
         exact += int64_t(ref.size());
     }
     int32_t ProxyCount() const { return m_paper.ProxyCount(); }
@@ -166,93 +175,34 @@ private:
     std::vector<int32_t> m_refId;
 };
 
-/// Fat boxes (FatPolicy) of the live proxies, with recorded ids: what both modes keep beside a foreign index.
-struct FatBoxes
-{
-    quadphase::FatPolicy policy;
-    std::vector<Box> fat;
-    std::vector<int32_t> recorded, freeIds;
-    std::vector<uint8_t> live, buffered;
-    int32_t count = 0;
-
-    int32_t Add(const Box& tight, int32_t rec)
-    {
-        int32_t id = int32_t(fat.size());
-        if (!freeIds.empty())
-        {
-            id = freeIds.back();
-            freeIds.pop_back();
-        }
-        else
-        {
-            fat.emplace_back(), recorded.push_back(-1), live.push_back(0), buffered.push_back(0);
-        }
-        fat[size_t(id)] = quadphase::FattenNew(policy, tight);
-        recorded[size_t(id)] = rec;
-        live[size_t(id)] = 1;
-        ++count;
-        return id;
-    }
-    void Remove(int32_t id)
-    {
-        live[size_t(id)] = 0;
-        --count;
-        freeIds.push_back(id);
-    }
-    /// Every pair of live proxies whose fat boxes overlap, in recorded ids (sort and sweep on minX; untimed).
-    void AllOverlapKeys(std::vector<uint64_t>& keys) const
-    {
-        std::vector<int32_t> order;
-        for (size_t i = 0; i < fat.size(); ++i)
-        {
-            if (live[i])
-            {
-                order.push_back(int32_t(i));
-            }
-        }
-        std::sort(order.begin(), order.end(),
-                  [&](int32_t a, int32_t b) { return fat[size_t(a)].minX < fat[size_t(b)].minX; });
-        for (size_t i = 0; i < order.size(); ++i)
-        {
-            const Box& a = fat[size_t(order[i])];
-            for (size_t j = i + 1; j < order.size() && fat[size_t(order[j])].minX <= a.maxX; ++j)
-            {
-                if (quadphase::Overlaps(a, fat[size_t(order[j])]))
-                {
-                    keys.push_back(PairKey(recorded[size_t(order[i])], recorded[size_t(order[j])]));
-                }
-            }
-        }
-    }
-};
-
-/// A foreign index beside the fat boxes it holds, in either mode (see the file comment): Box2D's protocol
-/// (with OracleIndex, over no index at all), or with kNativeMode the peer's own loop, every overlapping
-/// fat-box pair each step. `multiplier` is the fat boxes' displacement multiplier (native mode's -mM; else
-/// Box2D's).
+/// A foreign index beside the proxies it holds (the core's ProxyPool: fat boxes, recorded ids as user data and
+/// Box2D's move buffer), in either mode (see the file comment): Box2D's protocol (with OracleIndex, over no
+/// index at all), or with kNativeMode the peer's own loop, every overlapping fat-box pair each step.
+/// `multiplier` is the fat boxes' displacement multiplier (native mode's -mM; else Box2D's).
 template <typename Index, bool kNativeMode>
-class PeerEngine
+class PeerEngine : public RecordedPairs
 {
 public:
     template <typename... A>
-    explicit PeerEngine(float multiplier, A&&... a) : m_index(&m_b.fat, std::forward<A>(a)...)
+    explicit PeerEngine(float multiplier, A&&... a) : m_index(&m_pool, std::forward<A>(a)...)
     {
-        m_b.policy.multiplier = multiplier;
+        m_policy.multiplier = multiplier;
     }
     int32_t Create(const Box& tight, int32_t recorded)
     {
-        const int32_t id = m_b.Add(tight, recorded);
-        m_index.Insert(id, m_b.fat[size_t(id)]);
+        const int32_t id = m_pool.Allocate(quadphase::FattenNew(m_policy, tight),
+                                           reinterpret_cast<void*>(intptr_t(recorded)));
+        m_index.Insert(id, m_pool.Fat(id));
         Buffer(id);
         return id;
     }
-    void Destroy(int32_t id) { m_index.Remove(id), m_b.Remove(id); }
+    void Destroy(int32_t id) { m_index.Remove(id), m_pool.Free(id); }
     void Move(int32_t id, const Box& tight, Vec2 d)
     {
         // Box2D's fat-box test; the index is updated (and the proxy buffered) only when the fat box changed.
-        if (quadphase::Refatten(m_b.policy, m_b.fat[size_t(id)], tight, d))
+        if (quadphase::Refatten(m_policy, m_pool.Fat(id), tight, d))
         {
-            m_index.Update(id, m_b.fat[size_t(id)]);
+            m_index.Update(id, m_pool.Fat(id));
             Buffer(id);
         }
     }
@@ -263,81 +213,93 @@ public:
         if constexpr (kNativeMode)
         {
             m_index.AllPairs([&](int32_t a, int32_t b) {
-                if (quadphase::Overlaps(m_b.fat[size_t(a)], m_b.fat[size_t(b)]))
+                if (quadphase::Overlaps(m_pool.Fat(a), m_pool.Fat(b)))
                 {
-                    m_pairs.emplace_back(m_b.recorded[size_t(a)], m_b.recorded[size_t(b)]);
+                    m_pairs.emplace_back(Recorded(a), Recorded(b));
                 }
             });
+            return;
         }
-        else
+        m_pool.LendBuffer(m_work); // the live buffered proxies, in call order, each flagged "in work"
+        for (int32_t q : m_work)
         {
-            for (int32_t q : m_moveBuffer)
+            const size_t before = m_pairs.size();
+            if constexpr (std::is_same_v<Index, OracleIndex>)
             {
-                if (!m_b.live[size_t(q)])
-                {
-                    continue;
-                }
-                const size_t before = m_pairs.size();
-                if constexpr (std::is_same_v<Index, OracleIndex>)
-                {
-                    m_index.Append(m_pairs);
-                }
-                else
-                {
-                    const Box qb = m_b.fat[size_t(q)];
-                    m_index.Query(qb, [&](int32_t o) {
-                        // Box2D's rule: when both are buffered, only the query of the smaller id reports
-                        // the pair.
-                        if (o != q && m_b.live[size_t(o)] && !(m_b.buffered[size_t(o)] && o < q) &&
-                            quadphase::Overlaps(m_b.fat[size_t(o)], qb))
-                        {
-                            m_pairs.emplace_back(m_b.recorded[size_t(q)], m_b.recorded[size_t(o)]);
-                        }
-                    });
-                }
-                if (perQuery != nullptr)
-                {
-                    perQuery->push_back(int32_t(m_pairs.size() - before));
-                }
+                m_index.Append(m_pairs);
             }
-            if (allPairs != nullptr)
+            else
             {
-                allPairs->insert(allPairs->end(), m_pairs.begin(), m_pairs.end());
+                const Box qb = m_pool.Fat(q);
+                m_index.Query(qb, [&](int32_t o) {
+                    // Box2D's rule: when both are buffered, only the query of the smaller id reports the pair.
+                    if (o != q && m_pool.IsLive(o) && !(m_pool.InWork(o) && o < q) &&
+                        quadphase::Overlaps(m_pool.Fat(o), qb))
+                    {
+                        m_pairs.emplace_back(Recorded(q), Recorded(o));
+                    }
+                });
             }
-            for (int32_t q : m_moveBuffer)
+            if (perQuery != nullptr)
             {
-                m_b.buffered[size_t(q)] = 0;
+                perQuery->push_back(int32_t(m_pairs.size() - before));
             }
-            m_moveBuffer.clear();
         }
+        if (allPairs != nullptr)
+        {
+            allPairs->insert(allPairs->end(), m_pairs.begin(), m_pairs.end());
+        }
+        m_pool.ReturnBuffer(m_work);
     }
     void ShiftOrigin(Vec2)
     {
         std::fprintf(stderr, "qp-replay: ShiftOrigin is not supported here\n"), std::exit(1);
     }
-    int32_t ProxyCount() const { return m_b.count; }
-    size_t PairCount() const { return m_pairs.size(); }
-    void PairKeys(std::vector<uint64_t>& keys) const { AddKeys(m_pairs, keys); }
-    void BeginTimedSteps() {}
-    const FatBoxes& Boxes() const { return m_b; }
+    int32_t ProxyCount() const { return m_pool.LiveCount(); }
+
+    /// Every pair of live proxies whose fat boxes overlap, in recorded ids (sort and sweep on minX; untimed).
+    void AllOverlapKeys(std::vector<uint64_t>& keys) const
+    {
+        std::vector<int32_t> order;
+        for (int32_t id = 0; id < m_pool.IdBound(); ++id)
+        {
+            if (m_pool.IsLive(id))
+            {
+                order.push_back(id);
+            }
+        }
+        std::sort(order.begin(), order.end(),
+                  [&](int32_t a, int32_t b) { return m_pool.Fat(a).minX < m_pool.Fat(b).minX; });
+        for (size_t i = 0; i < order.size(); ++i)
+        {
+            const Box& a = m_pool.Fat(order[i]);
+            for (size_t j = i + 1; j < order.size() && m_pool.Fat(order[j]).minX <= a.maxX; ++j)
+            {
+                if (quadphase::Overlaps(a, m_pool.Fat(order[j])))
+                {
+                    keys.push_back(PairKey(Recorded(order[i]), Recorded(order[j])));
+                }
+            }
+        }
+    }
 
     std::vector<int32_t>* perQuery = nullptr; // preparing the oracle: pairs per query, and all pairs in order
     PairList* allPairs = nullptr;
 
 private:
+    int32_t Recorded(int32_t id) const { return int32_t(intptr_t(m_pool.UserData(id))); }
     /// Into Box2D's move buffer (native mode has none: it reports every pair anyway).
     void Buffer(int32_t id)
     {
-        if (!kNativeMode && !m_b.buffered[size_t(id)])
+        if (!kNativeMode)
         {
-            m_b.buffered[size_t(id)] = 1;
-            m_moveBuffer.push_back(id);
+            m_pool.Buffer(id);
         }
     }
-    FatBoxes m_b;
+    quadphase::FatPolicy m_policy;
+    quadphase::ProxyPool m_pool; // before m_index, which keeps its address
     Index m_index;
-    std::vector<int32_t> m_moveBuffer;
-    PairList m_pairs;
+    std::vector<int32_t> m_work;
 };
 
 /// Checks a native engine after every UpdatePairs: its unique pair set against all overlapping fat-box pairs.
@@ -348,12 +310,9 @@ struct NativeCheck : NoObserver
     void AfterUpdatePairs(Engine& engine, bool)
     {
         std::vector<uint64_t> mine, ref;
-        engine.PairKeys(mine);
-        const size_t reported = mine.size();
-        HashPairKeys(mine);
-        engine.Boxes().AllOverlapKeys(ref);
+        duplicates += UniqueKeys(engine, mine);
+        engine.AllOverlapKeys(ref);
         HashPairKeys(ref);
-        duplicates += int64_t(reported - mine.size());
         if (mine != ref && mismatches++ < 5)
         {
             std::fprintf(stderr, "MISMATCH at UpdatePairs call %lld: %zu pairs, %zu overlapping\n",
@@ -379,9 +338,7 @@ Geometry Measure(const LoadedTrace& loaded)
     for (const TraceOp& op : loaded.trace.Ops())
     {
         const Box& b = op.box;
-        if ((op.kind != TraceOp::Create && op.kind != TraceOp::Move) ||
-            !(std::isfinite(b.minX) && std::isfinite(b.minY) && std::isfinite(b.maxX) &&
-              std::isfinite(b.maxY)))
+        if ((op.kind != TraceOp::Create && op.kind != TraceOp::Move) || !quadphase::IsFinite(b))
         {
             continue;
         }
@@ -404,18 +361,18 @@ constexpr bool kNative = false;
 template <typename Index>
 constexpr bool kNative<PeerEngine<Index, true>> = true;
 
-/// Untimed check (unless `checked` is false; --check none), then the timed runs. Box2D's protocol: hashes
-/// against
-/// --compare-hashes, or written to --hashes-out; native mode: NativeCheck.
-template <typename Engine, typename Make>
-int RunEngine(const PeerRun& run, Make make, bool checked = true)
+/// An engine built from `a` as a contender. Its check: Box2D's protocol, hashes against --compare-hashes, or written to
+/// --hashes-out; native mode: NativeCheck.
+template <typename Engine, typename... A>
+Contender Contend(const PeerRun& run, const A&... a)
 {
-    int64_t bad = 0;
-    if (checked && run.args.Get("check", "first") != "none")
-    {
+    const auto make = [=] {
+        return std::make_unique<Engine>(a...);
+    };
+    const auto check = [&run, make] {
         std::unique_ptr<Engine> engine = make();
         JsonLine j = run.base("check");
-        int64_t calls = 0;
+        int64_t calls = 0, bad = 0;
         if constexpr (kNative<Engine>)
         {
             NativeCheck nc;
@@ -441,32 +398,25 @@ int RunEngine(const PeerRun& run, Make make, bool checked = true)
                     bad ? "MISMATCH" : "exact");
         j.Int("calls_hashed", calls).Int("mismatches", bad);
         AppendLine(run.args.Get("json"), j.Text());
-    }
-    Timings timings{run.engine, {}, {}};
-    for (int r = 0; r < int(run.args.GetInt("repeats", 5)); ++r)
-    {
-        TimedRun(run.loaded, run.args.Get("json"), run.base("run"), timings, make, [](auto&&...) {});
-    }
-    timings.PrintMedians();
-    return bad != 0 ? 3 : 0;
+        return bad;
+    };
+    return Contender{{run.engine, {}, {}}, check, [&run, make](Timings& t) {
+                         TimedRun(run.loaded, run.args.Get("json"), run.base("run"), t, make,
+                                  [](auto&&...) {});
+                     }};
 }
 
-/// RunEngine over PeerEngine<Index> in native mode or Box2D's protocol; `a` are the index's arguments.
+/// Contend over PeerEngine<Index> in native mode or Box2D's protocol; `a` are the engine's arguments.
 template <typename Index, typename... A>
-int RunIndex(const PeerRun& run, bool native, float multiplier, const A&... a)
+Contender ContendIndex(const PeerRun& run, bool native, const A&... a)
 {
-    if (native)
-    {
-        return RunEngine<PeerEngine<Index, true>>(
-            run, [&] { return std::make_unique<PeerEngine<Index, true>>(multiplier, a...); });
-    }
-    return RunEngine<PeerEngine<Index, false>>(
-        run, [&] { return std::make_unique<PeerEngine<Index, false>>(multiplier, a...); });
+    return native ? Contend<PeerEngine<Index, true>>(run, a...)
+                  : Contend<PeerEngine<Index, false>>(run, a...);
 }
 
 } // namespace
 
-int RunPeer(const PeerRun& run)
+Contender PeerContender(const PeerRun& run)
 {
     const std::string& e = run.engine;
     const LoadedTrace& loaded = run.loaded;
@@ -481,23 +431,19 @@ int RunPeer(const PeerRun& run)
     const std::string base = e.substr(0, std::min({e.find("-native"), x, m}));
     if (base == "null")
     {
-        return RunEngine<NullEngine>(
-            run, [] { return std::make_unique<NullEngine>(); }, false);
+        Contender c = Contend<NullEngine>(run);
+        c.check = nullptr;
+        return c;
     }
     if (base == "stock")
     {
-        return RunEngine<StockEngine>(run, [] { return std::make_unique<StockEngine>(); });
+        return Contend<StockEngine>(run);
     }
     if (base == "brute")
     {
-        const long maxProxies = run.args.GetInt("max-proxies", 20000);
-        if (loaded.steps.proxies > maxProxies)
-        {
-            Die(2, "qp-replay: brute force on %lld proxies (> --max-proxies %ld) refused\n",
-                static_cast<long long>(loaded.steps.proxies), maxProxies);
-        }
+        RefuseLargeBrute(run.args, loaded);
         using E = CoreEngine<quadphase::BruteForceBroadPhase>;
-        return RunEngine<E>(run, [] { return std::make_unique<E>(); });
+        return Contend<E>(run);
     }
     if (base == "paper")
     {
@@ -513,10 +459,12 @@ int RunPeer(const PeerRun& run)
         {
             Die(2, "qp-replay: --levels must be auto or 1..9\n");
         }
-        if (run.args.Get("check", "first") != "none")
-        {
+        using E = CoreEngine<PaperQuadtreeBroadPhase>;
+        Contender c = Contend<E>(run, levels, g.bounds, threads, quadphase::Schedule::Static,
+                                 quadphase::bench::PaperPairReport::Buffered);
+        c.check = [&run, levels, g, threads] {
             PaperChecked checked(levels, g.bounds, threads);
-            Replay(loaded, checked);
+            Replay(run.loaded, checked);
             std::printf("check paper: %lld exact pairs; missed %lld, duplicates %lld, extra %lld\n",
                         static_cast<long long>(checked.exact), static_cast<long long>(checked.missed),
                         static_cast<long long>(checked.duplicates), static_cast<long long>(checked.extra));
@@ -527,15 +475,9 @@ int RunPeer(const PeerRun& run)
                 .Int("extra", checked.extra)
                 .Int("levels", levels);
             AppendLine(run.args.Get("json"), j.Text());
-        }
-        using E = CoreEngine<PaperQuadtreeBroadPhase>;
-        return RunEngine<E>(
-            run,
-            [&] {
-                return std::make_unique<E>(levels, g.bounds, threads, quadphase::Schedule::Static,
-                                           quadphase::bench::PaperPairReport::Buffered);
-            },
-            false);
+            return int64_t(0); // approximate by design: its misses are counted, not failed
+        };
+        return c;
     }
     if (base == "oracle")
     {
@@ -548,7 +490,7 @@ int RunPeer(const PeerRun& run)
         Replay(loaded, *prep);
         prep.reset();
         using E = PeerEngine<OracleIndex, false>;
-        return RunEngine<E>(run, [&] { return std::make_unique<E>(multiplier, pairs, perQuery); });
+        return Contend<E>(run, multiplier, pairs, perQuery);
     }
 #if QP_HAVE_CHIPMUNK
     if (base == "cp-hash" || base == "cp-tree")
@@ -556,7 +498,7 @@ int RunPeer(const PeerRun& run)
         const bool hash = base == "cp-hash";
         const double cell = cellScale * g.meanSide;
         const int cells = int(std::max<int64_t>(1000, 10 * loaded.steps.proxies));
-        return RunIndex<ChipmunkIndex>(run, native, multiplier, hash, cell, cells);
+        return ContendIndex<ChipmunkIndex>(run, native, multiplier, hash, cell, cells);
     }
 #endif
 #if QP_HAVE_BULLET
@@ -573,7 +515,7 @@ int RunPeer(const PeerRun& run)
         {
             Die(2, "qp-replay: bt-sap runs in native mode only (its aabbTest is a linear scan)\n");
         }
-        return RunIndex<BulletIndex>(run, native, multiplier, native, sap, world, maxProxies);
+        return ContendIndex<BulletIndex>(run, native, multiplier, native, sap, world, maxProxies);
     }
 #endif
     Die(2, "qp-replay: engine '%s' is unknown or not built here (Chipmunk %s, Bullet %s)\n", e.c_str(),
