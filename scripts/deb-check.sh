@@ -25,7 +25,7 @@ case "${1:-}" in -h | --help) sed -n '2,/^source /p' "$0" | sed '$d; s/^# \{0,1\
 [[ $# -le 1 ]] || { echo "deb-check: at most one argument, DEBDIR (see --help)" >&2; exit 2; }
 debdir=${1:-build/deb}
 readonly ours=(libbox2d2-quadphase libbox2d-quadphase-dev)
-readonly map=ice-01 play_seconds=6
+readonly game_map=ice-01 play_seconds=6
 export LC_ALL=C # sort and comm agree on the order; apt's messages parse the same everywhere
 
 die() { echo "deb-check: $*" >&2; exit 1; }
@@ -168,13 +168,13 @@ trap summary EXIT
 trap 'exit 130' INT
 trap 'exit 143' TERM HUP # so that the EXIT trap runs
 
-# Starts caveexpress on $map with QUADPHASE_VALIDATE=1 and no LD_LIBRARY_PATH; sets run_maps and run_validation.
+# Starts caveexpress on $game_map with QUADPHASE_VALIDATE=1 and no LD_LIBRARY_PATH; sets run_maps and run_validation.
 run_game() { # NAME
     local log=$work/game-$1.log
     rm -rf "$work/home-$1" && mkdir -p "$work/home-$1"
     qp_xvfb_start "$work/xvfb-$1.log" || { fail "$1: Xvfb did not start (see $work/xvfb-$1.log)"; return; }
-    echo "deb-check: $1: QUADPHASE_VALIDATE=1 $QP_GAME -map $map (no LD_LIBRARY_PATH, Xvfb $QP_DISPLAY)"
-    qp_game_start "$log" "$work/home-$1" "$map" QUADPHASE_VALIDATE=1 ||
+    echo "deb-check: $1: QUADPHASE_VALIDATE=1 $QP_GAME -map $game_map (no LD_LIBRARY_PATH, Xvfb $QP_DISPLAY)"
+    qp_game_start "$log" "$work/home-$1" "$game_map" QUADPHASE_VALIDATE=1 ||
         fail "$1: no map started within 60 s (see $log)"
     sleep "$play_seconds"
     run_maps=$(qp_game_maps_line)
