@@ -36,7 +36,7 @@ stage=$work/quadphase-$version
 rm -rf "$work" "$out"/*.deb "$out/lintian.txt"
 mkdir -p "$stage"
 # The source tree the package is built from: what the libraries' build reads (examples, tests, benchmarks off).
-cp -r CMakeLists.txt cmake plugin "$stage/"
+cp -r CMakeLists.txt LICENSE cmake plugin "$stage/"
 cp -r scripts/debian "$stage/debian"
 
 echo "deb: dpkg-buildpackage -b in $stage (log $work/build.log)"
