@@ -59,7 +59,8 @@ install(FILES
     "${PROJECT_SOURCE_DIR}/cmake/QuadphaseVariant.cmake"
     DESTINATION "${QUADPHASE_INSTALL_CMAKEDIR}")
 
-# Box2D's licence travels with the binaries built from it.
+# The licences travel with the binaries: quadphase's (MIT) and Box2D's (MIT, its own copyright).
+install(FILES "${PROJECT_SOURCE_DIR}/LICENSE" DESTINATION "${CMAKE_INSTALL_DATADIR}/doc/quadphase")
 install(FILES "${QUADPHASE_BOX2D_SRC}/LICENSE"
     DESTINATION "${CMAKE_INSTALL_DATADIR}/doc/quadphase"
     RENAME LICENSE.box2d

@@ -21,7 +21,7 @@
 source "$(dirname "${BASH_SOURCE[0]}")/lib/build.sh"
 source "$(dirname "${BASH_SOURCE[0]}")/lib/caveexpress.sh"
 
-case "${1:-}" in -h | --help) sed -n '2,/^source /p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;; esac
+case "${1:-}" in -h | --help) sed -n '2,/^source /{/^# SPDX-License-Identifier: MIT$/!p}' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;; esac
 [[ $# -le 1 ]] || { echo "deb-check: at most one argument, DEBDIR (see --help)" >&2; exit 2; }
 debdir=${1:-build/deb}
 readonly ours=(libbox2d2-quadphase libbox2d-quadphase-dev)

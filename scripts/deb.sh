@@ -18,7 +18,7 @@
 # Install: apt install ./OUTDIR/*.deb; back to stock: apt install libbox2d2 (README "Install system-wide").
 source "$(dirname "${BASH_SOURCE[0]}")/lib/build.sh"
 
-case "${1:-}" in -h | --help) sed -n '2,/^source /p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;; esac
+case "${1:-}" in -h | --help) sed -n '2,/^source /{/^# SPDX-License-Identifier: MIT$/!p}' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;; esac
 [[ $# -le 1 ]] || { echo "deb: at most one argument, OUTDIR (see --help)" >&2; exit 2; }
 out=${1:-build/deb}
 
@@ -36,7 +36,7 @@ stage=$work/quadphase-$version
 rm -rf "$work" "$out"/*.deb "$out/lintian.txt"
 mkdir -p "$stage"
 # The source tree the package is built from: what the libraries' build reads (examples, tests, benchmarks off).
-cp -r CMakeLists.txt cmake plugin "$stage/"
+cp -r CMakeLists.txt LICENSE cmake plugin "$stage/"
 cp -r scripts/debian "$stage/debian"
 
 echo "deb: dpkg-buildpackage -b in $stage (log $work/build.log)"

@@ -24,7 +24,7 @@ python3 "$(dirname "${BASH_SOURCE[0]}")/../examples/demo/demo.py" --bin-dir "$(d
     status=$?
 cat >&2 <<'MSG'
 
-demo: this was one scene. The benchmark (issue 4) steps every scene in both builds, replays identical broadphase
+demo: this was one scene. The benchmark steps every scene in both builds, replays identical broadphase
 demo: traces through stock, quadphase, brute force, the paper's design, Chipmunk2D and Bullet, and runs the paper's
 demo: 20 ms protocol:  bench/run.sh  (quick profile, about 10 minutes; --full for the committed bench/RESULTS.md)
 MSG

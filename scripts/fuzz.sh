@@ -34,7 +34,7 @@ set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
 usage() {
-    sed -n '2,/^set -euo/p' "${BASH_SOURCE[0]}" | sed '$d; s/^# \{0,1\}//'
+    sed -n '2,/^set -euo/{/^# SPDX-License-Identifier: MIT$/!p}' "${BASH_SOURCE[0]}" | sed '$d; s/^# \{0,1\}//'
 }
 
 seconds=${FUZZ_SECONDS:-60}

@@ -69,7 +69,7 @@ packages_for() {
 all_purposes=(test demo render testbed bench race sanitize fuzz deb)
 
 usage() {
-    sed -n '2,/^set -euo/p' "${BASH_SOURCE[0]}" | sed '$d; s/^# \{0,1\}//'
+    sed -n '2,/^set -euo/{/^# SPDX-License-Identifier: MIT$/!p}' "${BASH_SOURCE[0]}" | sed '$d; s/^# \{0,1\}//'
 }
 
 purposes=()

@@ -62,7 +62,7 @@ screenshot_copy=""
 declare -A prefix=()
 declare -A skip=()
 
-usage() { sed -n '2,/^source /p' "$root/scripts/real-game.sh" | sed '$d; s/^# \{0,1\}//'; }
+usage() { sed -n '2,/^source /{/^# SPDX-License-Identifier: MIT$/!p}' "$root/scripts/real-game.sh" | sed '$d; s/^# \{0,1\}//'; }
 die() { echo "real-game: $*" >&2; exit 1; }
 need_value() { [[ $# -ge 2 && -n "$2" ]] || { echo "real-game: $1 needs a value" >&2; exit 2; }; }
 whole_number() { [[ "$2" =~ ^[1-9][0-9]*$ ]] || { echo "real-game: $1 must be a whole number > 0, got '$2'" >&2; exit 2; }; }

@@ -1,6 +1,6 @@
-// Extreme cases (issue 6), run identically in the stock and the quadphase build of Box2D: far coordinates and
-// ShiftOrigin, sizes over seven decades, thousands of bodies in one spot, proxies that leave the bounds fast
-// and come back, bodies created and destroyed every step. Both builds must pass the same checks; the
+// Extreme cases (docs/robustness.md), run identically in the stock and the quadphase build of Box2D: far
+// coordinates and ShiftOrigin, sizes over seven decades, thousands of bodies in one spot, proxies that leave the
+// bounds fast and come back, bodies created and destroyed every step. Both builds must pass the same checks; the
 // quadphase build also gives exactly the stock tree's pairs (validation mode). One million proxies:
 // core_extreme_test.cpp.
 #include <cmath>

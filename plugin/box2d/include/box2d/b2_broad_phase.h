@@ -119,7 +119,8 @@ public:
     /// Get the height of the embedded tree.
     /// quadphase: b2DynamicTree's statistics of m_tree, inline (stock's header calls m_tree's; written out here
     /// over the same members, so a program built against this header needs nothing stock's library lacks): 0 on
-    /// quadphase's library, whose m_tree holds no tree, only the proxies' records. The quadtree's own shape (depth, crowding) is in quadphase::GetStats.
+    /// quadphase's library, whose m_tree holds no tree, only the proxies' records, and stock's values with
+    /// QUADPHASE_STOCK_TREE=1. The quadtree's own shape (depth, crowding) is in quadphase::GetStats.
     int32 GetTreeHeight() const;
 
     /// Get the balance of the embedded tree (quadphase: 0, see GetTreeHeight).
