@@ -7,6 +7,8 @@
 #include <cstdlib>
 #include <mutex>
 
+#include "environment.h"
+
 namespace quadphase
 {
 namespace detail
@@ -23,7 +25,7 @@ struct ValidationLog
 
     ValidationLog()
     {
-        const char* path = std::getenv("QUADPHASE_VALIDATE_LOG");
+        const char* path = EnvironmentValue("QUADPHASE_VALIDATE_LOG");
         if (path == nullptr || path[0] == '\0')
         {
             return;
@@ -35,7 +37,7 @@ struct ValidationLog
                 stderr, "quadphase: validation: cannot open QUADPHASE_VALIDATE_LOG=%s for appending\n", path);
             return;
         }
-        const char* every_text = std::getenv("QUADPHASE_VALIDATE_LOG_EVERY");
+        const char* every_text = EnvironmentValue("QUADPHASE_VALIDATE_LOG_EVERY");
         if (every_text != nullptr && std::atoll(every_text) > 0)
         {
             every = std::atoll(every_text);
