@@ -10,26 +10,9 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "child_broad_phase.h"
 #include "quadphase/box2d.h"
 #include "quadphase/error.h"
-
-namespace
-{
-
-struct NoPairs
-{
-    void AddPair(void*, void*) {}
-};
-
-b2AABB Aabb(float x, float y)
-{
-    b2AABB box;
-    box.lowerBound.Set(x, y);
-    box.upperBound.Set(x + 1.0f, y + 1.0f);
-    return box;
-}
-
-} // namespace
 
 int main(int argc, char** argv)
 {

@@ -12,6 +12,7 @@
 #include <type_traits>
 
 #include "broad_phase_state.h"
+#include "environment.h"
 #include "quadphase/box2d.h"
 #include "validation_log.h"
 
@@ -22,8 +23,7 @@ namespace
 
 bool RequestedByEnvironment(const char* name)
 {
-    const char* value = std::getenv(name);
-    return value != nullptr && value[0] != '\0' && std::strcmp(value, "0") != 0;
+    return quadphase::detail::EnvironmentFlag(name);
 }
 
 quadphase::FatPolicy Box2DFatPolicy()

@@ -1,11 +1,16 @@
 // QUADPHASE_VALIDATE_LOG: see validation_log.h.
 #include "validation_log.h"
 
+#include <fcntl.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <mutex>
+
+#include "environment.h"
 
 namespace quadphase
 {
@@ -13,6 +18,29 @@ namespace detail
 {
 namespace
 {
+
+// `path` opened for appending (created 0666 less the umask, as fopen does), close-on-exec: the descriptor must not
+// leak into the children the program starts (a shell, a game's helper processes). nullptr with errno on failure.
+std::FILE* OpenForAppending(const char* path)
+{
+#if defined(_WIN32)
+    return std::fopen(path, "aN"); // N: not inherited by child processes (the C runtime's _O_NOINHERIT)
+#else
+    const int fd = open(path, O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0666);
+    if (fd < 0)
+    {
+        return nullptr;
+    }
+    std::FILE* file = fdopen(fd, "a");
+    if (file == nullptr)
+    {
+        const int error = errno;
+        close(fd);
+        errno = error;
+    }
+    return file;
+#endif
+}
 
 struct ValidationLog
 {
@@ -23,19 +51,20 @@ struct ValidationLog
 
     ValidationLog()
     {
-        const char* path = std::getenv("QUADPHASE_VALIDATE_LOG");
+        const char* path = EnvironmentValue("QUADPHASE_VALIDATE_LOG");
         if (path == nullptr || path[0] == '\0')
         {
             return;
         }
-        file = std::fopen(path, "a");
+        file = OpenForAppending(path);
         if (file == nullptr)
         {
-            std::fprintf(
-                stderr, "quadphase: validation: cannot open QUADPHASE_VALIDATE_LOG=%s for appending\n", path);
+            std::fprintf(stderr,
+                         "quadphase: validation: cannot open QUADPHASE_VALIDATE_LOG=%s for appending: %s\n",
+                         path, std::strerror(errno));
             return;
         }
-        const char* every_text = std::getenv("QUADPHASE_VALIDATE_LOG_EVERY");
+        const char* every_text = EnvironmentValue("QUADPHASE_VALIDATE_LOG_EVERY");
         if (every_text != nullptr && std::atoll(every_text) > 0)
         {
             every = std::atoll(every_text);

@@ -14,8 +14,9 @@ namespace detail
 ///   quadphase[PID]: validation: mismatch: <what>                       for each mismatch, as it is found;
 ///   quadphase[PID]: validation: N UpdatePairs checked, M mismatches    every QUADPHASE_VALIDATE_LOG_EVERY checks
 ///                                                                      (default 100) of the process, and at exit.
-/// Lines of several processes may interleave in one file; PID tells them apart. Without the variable, these do
-/// nothing. Thread-safe.
+/// Lines of several processes may interleave in one file; PID tells them apart. Without the variable, or in a
+/// set-user-ID or set-group-ID program (which ignores it: EnvironmentValue), these do nothing. The file is opened
+/// close-on-exec: the programs this one starts do not inherit its descriptor. Thread-safe.
 void LogValidationMismatch(const std::string& what);
 
 /// Process-wide totals after a change; writes the running summary each time `checks` crosses a multiple of the

@@ -4,7 +4,8 @@
 #include <cstdarg>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
+
+#include "environment.h"
 
 namespace quadphase
 {
@@ -16,8 +17,7 @@ int g_strict = -1;
 
 bool StrictFromEnvironment()
 {
-    const char* value = std::getenv("QUADPHASE_STRICT");
-    return value != nullptr && value[0] != '\0' && std::strcmp(value, "0") != 0;
+    return detail::EnvironmentFlag("QUADPHASE_STRICT");
 }
 
 void DefaultHandler(ErrorCode code, const char* message, void*)

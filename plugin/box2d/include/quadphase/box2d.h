@@ -36,7 +36,8 @@ void ResetCounters(b2World& world);
 void SetTiming(b2World& world, bool enabled);
 
 /// Switches validation mode (a shadow b2DynamicTree checked at every UpdatePairs; see ShadowValidator).
-/// QUADPHASE_VALIDATE=1 in the environment switches it on for every world from its creation.
+/// QUADPHASE_VALIDATE=1 in the environment switches it on for every world from its creation (except in set-user-ID
+/// and set-group-ID programs, which ignore every QUADPHASE_* variable).
 void SetValidation(b2World& world, bool enabled);
 
 /// What validation found; all zero when it is off.

@@ -29,8 +29,9 @@ using ErrorHandler = void (*)(ErrorCode code, const char* message, void* context
 ErrorHandler SetErrorHandler(ErrorHandler handler, void* context = nullptr);
 
 /// Strict mode: the default handler aborts after printing, like an assert (for tests and debugging). Off by
-/// default; also switched on by QUADPHASE_STRICT=1 in the environment (read at the first report). Has no
-/// effect on an installed handler. Returns the previous setting. Not thread-safe, like SetErrorHandler.
+/// default; also switched on by QUADPHASE_STRICT=1 in the environment (read at the first report; ignored, as every
+/// QUADPHASE_* variable, by set-user-ID and set-group-ID programs). Has no effect on an installed handler. Returns
+/// the previous setting. Not thread-safe, like SetErrorHandler.
 bool SetStrictErrors(bool strict);
 
 /// Reports an error through the installed handler. printf-style.
