@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""quadphase's side-by-side benchmark (issues 4, 16, 19). Run it through bench/run.sh, which builds the tools.
+"""quadphase's side-by-side benchmark. Run it through bench/run.sh, which builds the tools.
 
 One machine, one run, one Box2D source and set of flags per optimisation level (--builds O2=DIR,O3=DIR):
   step     in-engine: qp-step-stock and qp-step-quadtree (one source, two Box2D builds) step every scene at
@@ -13,7 +13,7 @@ One machine, one run, one Box2D source and set of flags per optimisation level (
   queries  qp-query-stock and qp-query-quadtree: QueryAABB, short and long rays, a mass SetTransform then
            queries, through b2World; hits checked equal;
   circles  the paper's protocol: the most circles under 20 ms per frame (qp-circles).
---frames runs only the frames section (issue 31): every in-engine scene from its first step as a game runs it,
+--frames runs only the frames section: every in-engine scene from its first step as a game runs it,
 stock and quadphase (1 and 2 threads, its defaults, a job system), each also beside a busy thread; per-step
 b2Profile broadphase and step p50/p99/max/total -> bench/results/frames.{md,csv,png}.
 The first level runs every part; further levels run step, phases and the replay's headline engines. Writes
@@ -154,7 +154,7 @@ def main():
     info["quiet_samples"] = [q for _, _, r in runners for q in r.quiet_samples]
     info["loadavg_end"] = open("/proc/loadavg").read().split()[:3]
     report.write_json(os.path.join(args.work, "machine.json"), info)
-    # The full run also reports frames (issue 31), on the first level's build, and RESULTS.md quotes their goals.
+    # The full run also reports frames, on the first level's build, and RESULTS.md quotes their goals.
     goals = frames.run_frames(args) if args.full else []
     info["frame_steps"] = args.frame_steps
     outputs.write_outputs(args, info, {lv: r.results() for lv, _, r in runners}, goals)

@@ -6,7 +6,7 @@ from quadphase_tools.stats import med, ratio
 from .bench_common import QUADTREES, TEXT, keyed, scaled, section
 from .report import num as fmt, table
 
-# Query workload of issue 19 (qp-query-*): sizes of its reproductions; workloads in report order.
+# The query workload (qp-query-*): 50,000 bodies over a 1 km square, its queries; workloads in report order.
 QUERY_ARGS = {"bodies": 50000, "world": 1000, "queries": 2000, "short-rays": 2000, "long-rays": 200,
               "teleport": 37500, "teleport-queries": 2000}
 QUERY_WORKLOADS = [("aabb_small", "small QueryAABB (2 m squares)"), ("ray_short_all", "short rays (10 m), all hits"),
@@ -17,7 +17,7 @@ QUERY_WORKLOADS = [("aabb_small", "small QueryAABB (2 m squares)"), ("ray_short_
                    ("ray_diag_closest", "long rays, corner to corner, closest hit"),
                    ("teleport", "SetTransform of {teleported:,} bodies, then {queries:,} small QueryAABBs, together"),
                    ("teleport_step", "the b2World::Step after the teleport")]
-QUERY_GOALS = {"ray_diag_all": 2.0, "ray_diag_closest": 2.0, "teleport": 2.0}  # issue 19; every other: >= 1
+QUERY_GOALS = {"ray_diag_all": 2.0, "ray_diag_closest": 2.0, "teleport": 2.0}  # 2x stock; every other workload: >= 1
 # Workloads with a floor (qp-query's <workload>_floor: b2World's and the callback's work on the recorded candidates).
 QUERY_FLOORS = ("aabb_small", "ray_short_all", "ray_axis_all", "ray_diag_all")
 
@@ -62,7 +62,7 @@ def query_section(d):
         return []
     q = keyed(d["queries"], ("workload", "engine"))
     floors = any(floor_ms(q, w) for w in QUERY_FLOORS)
-    L = section("## 3. Queries through b2World (issue 19)", TEXT["queries"].format(bodies=d["queries"][0]["bodies"])
+    L = section("## 3. Queries through b2World", TEXT["queries"].format(bodies=d["queries"][0]["bodies"])
                 + ("\n\n" + TEXT["query_floors"] if floors else ""))
     rows = []
     for w, what in QUERY_WORKLOADS:

@@ -37,8 +37,8 @@ def markdown(info, data, levels, plots, frame_goals=()):
         L.append(f"- not built (Chipmunk2D / Bullet missing at configure time): {', '.join(info['engines_missing'])}")
     L += [""] + headline(d, by, rp, levels[0])
     if frame_goals:  # "## Goals" becomes this report's frames section, with the per-step tables in frames.md
-        L += ["## Frames: worst step and total at the defaults (issue 31)", "",
-              f"Issue 31's goals from this run's frames section: {info.get('frame_steps', 600)} steps from the first, "
+        L += ["## Frames: worst step and total at the defaults", "",
+              f"The goals from this run's frames section: {info.get('frame_steps', 600)} steps from the first, "
               "as a game runs the library, "
               "alone and beside a busy thread; [results/frames.md](results/frames.md) explains the columns and the "
               "best-round rule and has the per-step tables.", ""] + frame_goals[2:] + [""]
@@ -59,7 +59,7 @@ def goal_row(target, vals, goal, in_profile=True, note=""):
 
 
 def headline(d, by, rp, level):
-    L = [f"## Headline: measured against the targets of issues 4, 16 and 19 ({level})", "",
+    L = [f"## Headline: every target against this run ({level})", "",
          "| target | measured here | |", "|---|---|---|"]
     replay_cases = sorted({(r["scene"], r["size"]) for r in d["replay"]})
     big = [(s, n) for s, n in replay_cases if (s == "particles" and n >= 50000) or (s == "rain" and n >= 60000)]
