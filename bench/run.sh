@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# quadphase's side-by-side benchmark (issues 4, 16, 19): in-engine step benchmark (stock Box2D against quadphase,
+# quadphase's side-by-side benchmark: in-engine step benchmark (stock Box2D against quadphase,
 # every scene, and rain by phase), broadphase replay (stock, quadphase, brute force, the paper's design, Chipmunk2D,
 # Bullet, memory floor), b2World queries, and the paper's protocol (circles under 20 ms). Installs what it needs,
 # configures and builds the tools (Release) per optimisation level, runs bench/bench.py, which writes
@@ -9,7 +9,7 @@
 #   bench/run.sh --full          # full profile, -O2 and -O3 (--opt both unless --opt says otherwise): about 90 minutes
 #   bench/run.sh --opt both      # -O2 (Debian's level) and -O3 (Box2D's CMake Release): a stock and a quadphase
 #                                # build each, same source, same flags; in-engine and replay headline at both
-#   bench/run.sh --frames        # only the frames section (issue 31; --full runs it too): p50/p99/max/total, busy, job
+#   bench/run.sh --frames        # only the frames section (--full runs it too): p50/p99/max/total, busy, job
 #                                # system; about 18 minutes: bench/results/frames.{md,csv,png}
 #   bench/run.sh --help          # every option of bench.py (parts, rounds, scale, output paths)
 #

@@ -53,6 +53,18 @@ public:
     /// 256 x 256 leaves, the paper's largest (its linearize uses bitset<8>)
     static constexpr int kMaxLevels = 9;
 
+    /// The level count for leaves at least `leaf` wide in a square of side `side`: the most levels, up to
+    /// kMaxLevels, that keep them so; 1 when none does (qp-replay's and qp-circles' automatic levels).
+    static int LevelsFor(double side, double leaf)
+    {
+        int levels = 1;
+        while (levels < kMaxLevels && side / double(1 << levels) >= leaf)
+        {
+            ++levels;
+        }
+        return levels;
+    }
+
     /// `levels` is clamped to [kMinLevels, kMaxLevels]. `bounds` is the fixed region (the paper used the window);
     /// an empty, inverted or non-finite region is reported (ErrorCode::InvertedBox / NonFiniteBox) and replaced by
     /// Config's default bounds. `threads`: 0 = OpenMP's own setting, 1 = the paper's sequential quadtree (an

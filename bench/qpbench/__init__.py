@@ -8,8 +8,12 @@ accuracy/accuracy.py -> docs/accuracy.md).
   plot     matplotlib (Agg) through /usr/bin/python3, or a note when it is missing
   paper    the paper's published Tables 1 and 2
 
-A new engine is one more entry in a script's engine list (bench.py: REPLAY_ENGINES, ENGINE_LABEL); a new table is
-one function returning markdown lines built with report.table().
+bench.py's sections, one module each (its sizes and engines, its tool runs, its rows, its RESULTS.md table and plot):
+  step, phases, replay, queries, circles, frames
+and what they share (bench_common), the CSV, JSON and plot files (outputs) and RESULTS.md's frame (summary).
+
+A new engine is one more entry in a script's engine list (bench.py's replay: replay.REPLAY_ENGINES and
+replay.ENGINE_LABEL); a new table is one function returning markdown lines built with report.table().
 
 What the demo (examples/demo) shares with them is in support/tools/python/quadphase_tools: the machine, running
 the tools (logs, JSON lines, quiet-waits), medians and ratios.

@@ -35,14 +35,17 @@
 #include <vector>
 
 #include "box2d/b2_broad_phase.h"
+#include "box_to_aabb.h"
+#include "pair_hash.h"
 #include "paper_quadtree.h"
 #include "quadphase/quadtree_broad_phase.h"
-#include "replay_common.h"
+#include "tool_common.h"
 
 namespace
 {
 
 using namespace qpbench;
+using quadphase::Box;
 
 constexpr float kRadius = 0.5f;
 constexpr float kAreaFraction = 0.15f;
@@ -267,8 +270,7 @@ std::unique_ptr<Detector> Make(const Settings& s, const Circles& c)
     if (s.engine == "paper")
     {
         // auto: leaves at least twice the circle's diameter.
-        const int levels =
-            PaperLevelsFor(c.side, 4.0 * kRadius, quadphase::bench::PaperQuadtreeBroadPhase::kMaxLevels);
+        const int levels = quadphase::bench::PaperQuadtreeBroadPhase::LevelsFor(c.side, 4.0 * kRadius);
         return std::make_unique<Paper>(c, s.depth < 0 ? levels : s.depth, s.threads);
     }
     if (s.engine == "stock")

@@ -1,4 +1,4 @@
-// qp-replay's engine over a quadphase::BroadPhaseInterface implementation (replay_common.h's Engine concept),
+// qp-replay's engine over a quadphase::BroadPhaseInterface implementation (replay_loop.h's Engine concept),
 // with the buffered-proxy tracking the quadtree's checking run uses; the one checking-then-timed run path every
 // engine goes through (Contender, Drive); and the entry point of the other engines (replay_peers.cpp lists them
 // and their two modes).
@@ -9,8 +9,10 @@
 #include <type_traits>
 #include <vector>
 
+#include "loaded_trace.h"
+#include "pair_hash.h"
 #include "quadphase/quadtree_broad_phase.h"
-#include "replay_common.h"
+#include "timed_run.h"
 
 namespace qpbench
 {

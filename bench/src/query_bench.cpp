@@ -1,6 +1,7 @@
-// qp-query-stock / qp-query-quadtree: the query workload of issue 19 at the b2World level. One source,
-// compiled against stock Box2D 2.4.1 and against Box2D with the quadtree (box2d_variant.h); bench/bench.py
-// runs the two alternately, in a new random order every round, and takes medians over the rounds.
+// qp-query-stock / qp-query-quadtree: QueryAABB, ray casts and a mass SetTransform through b2World. One
+// source, compiled against stock Box2D 2.4.1 and against Box2D with the quadtree (box2d_variant.h);
+// bench/bench.py runs the two alternately, in a new random order every round, and takes medians over the
+// rounds.
 //
 //   qp-query-<variant> [--bodies 50000] [--world 1000] [--queries 2000] [--query-size 2] [--short-rays 2000]
 //                      [--short-length 10] [--long-rays 200] [--teleport 37500] [--teleport-queries 2000]

@@ -1,5 +1,5 @@
 // qp-record: builds a scene, steps it, and records every broadphase call of its world (quadphase::SetTrace) into a
-// trace file, plus a ".steps" side file holding the op index of every world-step boundary (replay_common.h).
+// trace file, plus a ".steps" side file holding the op index of every world-step boundary (step_index.h).
 //
 //   qp-record --scene particles --size 50000 [--seed 1] [--warmup 60] [--steps 30] --out DIR/particles-50000.qptrace
 //
@@ -26,7 +26,8 @@
 #include "quadphase/box2d.h"
 #include "quadphase/fat_policy.h"
 #include "quadphase_scenes/scenes.h"
-#include "replay_common.h"
+#include "step_index.h"
+#include "tool_common.h"
 
 int main(int argc, char** argv)
 {

@@ -1,5 +1,5 @@
 // qp-replay: replays a trace (qp-record) through a broadphase and times the broadphase work of each recorded
-// step (definition in replay_common.h): quadphase::QuadtreeBroadPhase (this file; any Config), stock
+// step (definition in replay_loop.h): quadphase::QuadtreeBroadPhase (this file; any Config), stock
 // Box2D 2.4.1's b2BroadPhase and the peers (replay_peers.cpp: brute force, the paper's design, Chipmunk2D,
 // Bullet, the oracle floor, and a null engine: the replay loop alone). Also: --triad (the memory floor's
 // bandwidth), --omp-overhead (the cost of a parallel region), --print-config (the core's defaults). Usage:
@@ -26,10 +26,14 @@
 #include <omp.h>
 
 #include "core_engine.h"
+#include "loaded_trace.h"
+#include "pair_hash.h"
 #include "quadphase/brute_force_broad_phase.h"
 #include "quadphase/config.h"
 #include "quadphase/quadtree_broad_phase.h"
-#include "replay_common.h"
+#include "replay_loop.h"
+#include "step_index.h"
+#include "timed_run.h"
 
 namespace
 {

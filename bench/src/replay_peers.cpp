@@ -1,6 +1,6 @@
 // qp-replay's engines other than the quadtree core (replay.cpp): stock Box2D 2.4.1's b2BroadPhase (the
 // reference line and pair sets), brute force, the paper's design, Chipmunk2D, Bullet, the oracle floor and the
-// null engine. Same replay and timing definition as the quadtree (replay_common.h). Engine names (--engine):
+// null engine. Same replay and timing definition as the quadtree (replay_loop.h). Engine names (--engine):
 //
 //   stock       b2BroadPhase; --hashes-out writes its pair-set hashes (the exactness reference)
 //   brute       quadphase::BruteForceBroadPhase (refused above --max-proxies, default 20000)
@@ -31,13 +31,17 @@
 #include <vector>
 
 #include "box2d/b2_broad_phase.h"
+#include "box_to_aabb.h"
 #include "core_engine.h"
+#include "loaded_trace.h"
+#include "pair_hash.h"
 #include "paper_quadtree.h"
 #include "peer_indexes.h"
 #include "quadphase/brute_force_broad_phase.h"
 #include "quadphase/fat_policy.h"
 #include "quadphase/proxy_pool.h"
-#include "replay_common.h"
+#include "replay_loop.h"
+#include "timed_run.h"
 
 namespace qpbench
 {
@@ -451,9 +455,8 @@ Contender PeerContender(const PeerRun& run)
         // auto: leaves about twice the mean fat box side (the paper's tables favour leaves a little larger
         // than the objects).
         const double side = std::max(g.bounds.maxX - g.bounds.minX, g.bounds.maxY - g.bounds.minY);
-        const int levels = l == "auto"
-                               ? PaperLevelsFor(side, 2.0 * g.meanSide, PaperQuadtreeBroadPhase::kMaxLevels)
-                               : std::atoi(l.c_str());
+        const int levels =
+            l == "auto" ? PaperQuadtreeBroadPhase::LevelsFor(side, 2.0 * g.meanSide) : std::atoi(l.c_str());
         const int threads = int(run.args.GetInt("threads", 1));
         if (levels < PaperQuadtreeBroadPhase::kMinLevels || levels > PaperQuadtreeBroadPhase::kMaxLevels)
         {
