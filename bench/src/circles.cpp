@@ -36,7 +36,7 @@
 
 #include "box2d/b2_broad_phase.h"
 #include "paper_quadtree.h"
-#include "quadphase/quadtree_broad_phase.h"
+#include "quadtree_broad_phase.h"
 #include "replay_common.h"
 
 namespace

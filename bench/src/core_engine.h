@@ -9,7 +9,7 @@
 #include <type_traits>
 #include <vector>
 
-#include "quadphase/quadtree_broad_phase.h"
+#include "quadtree_broad_phase.h"
 #include "replay_common.h"
 
 namespace qpbench

@@ -25,10 +25,10 @@
 
 #include <omp.h>
 
+#include "brute_force_broad_phase.h"
 #include "core_engine.h"
-#include "quadphase/brute_force_broad_phase.h"
 #include "quadphase/config.h"
-#include "quadphase/quadtree_broad_phase.h"
+#include "quadtree_broad_phase.h"
 #include "replay_common.h"
 
 namespace

@@ -35,8 +35,8 @@
 #endif
 
 #include "box2d/b2_collision.h"
-#include "quadphase/trace.h"
 #include "tool_common.h"
+#include "trace.h"
 
 namespace qpbench
 {

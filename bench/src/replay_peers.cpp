@@ -31,12 +31,12 @@
 #include <vector>
 
 #include "box2d/b2_broad_phase.h"
+#include "brute_force_broad_phase.h"
 #include "core_engine.h"
+#include "fat_policy.h"
 #include "paper_quadtree.h"
 #include "peer_indexes.h"
-#include "quadphase/brute_force_broad_phase.h"
-#include "quadphase/fat_policy.h"
-#include "quadphase/proxy_pool.h"
+#include "proxy_pool.h"
 #include "replay_common.h"
 
 namespace qpbench
