@@ -75,7 +75,7 @@ ShadowValidator::ShadowValidator(const QuadtreeBroadPhase& core) : m_core(core)
         // A fat AABB that a move's displacement or ShiftOrigin produced may have no tight AABB that
         // b2DynamicTree::CreateProxy fattens to it (fl(t - 0.1) skips every other float below a power of two).
         // Such a proxy is seeded one float off and left out of the comparisons until a move gives both trees the
-        // same bits again: not a mismatch, since the quadtree is right (issue 17's Box2D-level fuzzer).
+        // same bits again: not a mismatch, since the quadtree is right (found by tests/fuzz/box2d_fuzz.cpp).
         AddShadow(id, tight);
         SetInexact(id, !exact);
         if (exact)
