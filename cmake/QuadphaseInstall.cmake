@@ -3,7 +3,9 @@
 # Layout under the install prefix (`cmake --install <build> --prefix P`):
 #   include/box2d/*.h                        Box2D 2.4.1's headers with quadphase's b2_broad_phase.h (stock's ABI):
 #                                            the headers of libbox2d and of quadphase::box2d
-#   include/quadphase/...                    core and adapter headers (<quadphase/box2d.h>: the extras)
+#   include/quadphase/*.h                    the public headers: <quadphase/box2d.h> (the extras) and the core headers
+#                                            it stands on (settings, statistics, error hook, task system); the
+#                                            internals stay beside their sources (plugin/*/src), not installed
 #   include/quadphase-box2d-stock/box2d/*.h  stock Box2D headers (quadphase::box2d_stock)
 #   lib/libbox2d.so.2.4.1 (soname libbox2d.so.2), libbox2d.so.2, libbox2d.so, libbox2d.a
 #                                            Box2D with the quadtree, the adapter and the core in one library
@@ -28,7 +30,7 @@ install(TARGETS quadphase_core quadphase_box2d quadphase_box2d_stock
     LIBRARY DESTINATION "${CMAKE_INSTALL_LIBDIR}"
     RUNTIME DESTINATION "${CMAKE_INSTALL_BINDIR}")
 
-# Headers.
+# Headers: the public ones only (plugin/*/include; docs/design.md, "Public surface").
 install(DIRECTORY "${PROJECT_SOURCE_DIR}/plugin/core/include/"
     DESTINATION "${CMAKE_INSTALL_INCLUDEDIR}")
 install(DIRECTORY "${QUADPHASE_BOX2D_ASSEMBLED_INCLUDE_DIR}/box2d"

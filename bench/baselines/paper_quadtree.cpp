@@ -4,8 +4,8 @@
 
 #include <algorithm>
 
-#include "quadphase/error.h"
-#include "quadphase/row_major.h"
+#include "report_error.h"
+#include "row_major.h"
 
 namespace quadphase
 {

@@ -19,7 +19,7 @@
 #include <memory>
 #include <vector>
 
-#include "quadphase/brute_force_broad_phase.h"
+#include "brute_force_broad_phase.h"
 #include "quadphase/config.h"
 
 namespace quadphase

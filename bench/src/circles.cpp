@@ -38,7 +38,7 @@
 #include "box_to_aabb.h"
 #include "pair_hash.h"
 #include "paper_quadtree.h"
-#include "quadphase/quadtree_broad_phase.h"
+#include "quadtree_broad_phase.h"
 #include "tool_common.h"
 
 namespace

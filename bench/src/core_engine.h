@@ -11,7 +11,7 @@
 
 #include "loaded_trace.h"
 #include "pair_hash.h"
-#include "quadphase/quadtree_broad_phase.h"
+#include "quadtree_broad_phase.h"
 #include "timed_run.h"
 
 namespace qpbench

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "quadphase/trace.h"
+#include "trace.h"
 #include "step_index.h"
 #include "tool_common.h"
 

@@ -11,9 +11,9 @@
 #include <utility>
 #include <vector>
 
+#include "proxy_pool.h"
 #include "quadphase/box.h"
-#include "quadphase/proxy_pool.h"
-#include "quadphase/quadtree_broad_phase.h"
+#include "quadtree_broad_phase.h"
 
 #if QP_HAVE_CHIPMUNK
 #include <chipmunk/chipmunk.h>

@@ -22,9 +22,10 @@
 #include <string>
 
 #include "box2d/box2d.h"
+#include "box2d_internal.h"
+#include "fat_policy.h"
 #include "phase.h"
 #include "quadphase/box2d.h"
-#include "quadphase/fat_policy.h"
 #include "quadphase_scenes/scenes.h"
 #include "step_index.h"
 #include "tool_common.h"

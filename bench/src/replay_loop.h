@@ -19,7 +19,7 @@
 #include "callgrind_markers.h"
 #include "loaded_trace.h"
 #include "pair_hash.h"
-#include "quadphase/trace.h"
+#include "trace.h"
 #include "tool_common.h"
 
 namespace qpbench

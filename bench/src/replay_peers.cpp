@@ -37,9 +37,9 @@
 #include "pair_hash.h"
 #include "paper_quadtree.h"
 #include "peer_indexes.h"
-#include "quadphase/brute_force_broad_phase.h"
-#include "quadphase/fat_policy.h"
-#include "quadphase/proxy_pool.h"
+#include "brute_force_broad_phase.h"
+#include "fat_policy.h"
+#include "proxy_pool.h"
 #include "replay_loop.h"
 #include "timed_run.h"
 

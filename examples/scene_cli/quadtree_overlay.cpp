@@ -5,9 +5,10 @@
 #include <utility>
 
 #if QUADPHASE_VARIANT_QUADPHASE
+#include "box2d_internal.h"
 #include "quadphase/box2d.h"
-#include "quadphase/quadtree_broad_phase.h"
-#include "quadphase/row_major.h"
+#include "quadtree_broad_phase.h"
+#include "row_major.h"
 #endif
 
 namespace quadphase::scene_cli

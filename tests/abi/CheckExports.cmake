@@ -1,10 +1,11 @@
 # cmake -P driver of abi_exports and abi_abidiff: quadphase's libbox2d.so.2 against stock's, built from the same
 # source with the same flags.
 #   -DMODE=exports|abidiff -DSTOCK=<stock libbox2d.so.2> -DQUADPHASE=<quadphase's> -DNM=<nm>
-#   -DABIDIFF=<abidiff> -DSUPPRESSIONS=<abidiff.suppr>
-# exports: every dynamic symbol stock's library defines, quadphase's defines too; beyond them, only quadphase's
-#          extras: names in namespace quadphase, and b2BroadPhase's ShiftOrigin, QueryWith, RayCastWith and
-#          UpdatePairsWith (out of line here, inline or absent in stock; see b2_broad_phase.h). Prints the counts.
+#   -DEXPECTED=<quadphase_exports.txt> -DABIDIFF=<abidiff> -DSUPPRESSIONS=<abidiff.suppr>
+# exports: every dynamic symbol stock's library defines, quadphase's defines too; beyond them, exactly the extras
+#          EXPECTED lists (quadphase's public API, and b2BroadPhase's functions that are out of line here, inline or
+#          absent in stock): an extra not listed (an internal that leaked) fails, and so does a listed one that is
+#          gone. Prints the counts.
 # abidiff: abidiff finds no removed or changed function or variable and no changed type beyond the reviewed
 #          suppressions (added symbols are the exports check's); without the suppressions it must report the
 #          b2BroadPhase change, or it read no debug information and proved nothing.
@@ -33,6 +34,18 @@ if(MODE STREQUAL "exports")
         set(${out} "${names}" PARENT_SCOPE)
         set(${out}_weak "${weak}" PARENT_SCOPE)
     endfunction()
+    # The list: the first word of each line that is not blank or a comment.
+    file(STRINGS "${EXPECTED}" expected_lines)
+    set(expected "")
+    foreach(line IN LISTS expected_lines)
+        if(line MATCHES "^([^# \t]+)")
+            list(APPEND expected "${CMAKE_MATCH_1}")
+        endif()
+    endforeach()
+    list(LENGTH expected n_expected)
+    if(n_expected EQUAL 0)
+        message(FATAL_ERROR "${EXPECTED} lists no symbol")
+    endif()
     dynamic_symbols(stock "${STOCK}")
     dynamic_symbols(ours "${QUADPHASE}")
     list(LENGTH stock n_stock)
@@ -51,15 +64,20 @@ if(MODE STREQUAL "exports")
         if(s IN_LIST stock)
             continue()
         endif()
-        if(s MATCHES "^_Z(N|NK|T[VIS]N)9quadphase"
-           OR s MATCHES "^_ZNK?12b2BroadPhase(11ShiftOrigin|9QueryWith|11RayCastWith|15UpdatePairsWith)E")
-            list(APPEND extras "${s}")
-        else()
+        list(APPEND extras "${s}")
+        if(NOT s IN_LIST expected)
             list(APPEND unexpected "${s}")
         endif()
     endforeach()
+    set(gone "")
+    foreach(s IN LISTS expected)
+        if(NOT s IN_LIST extras)
+            list(APPEND gone "${s}")
+        endif()
+    endforeach()
     list(LENGTH extras n_extras)
-    message(STATUS "exported symbols: stock ${n_stock}, quadphase ${n_ours} (stock's + ${n_extras} extras)")
+    message(STATUS "exported symbols: stock ${n_stock}, quadphase ${n_ours} (stock's + ${n_extras} extras; "
+                   "${n_expected} listed)")
     if(n_stock LESS 400)
         message(FATAL_ERROR "stock's library exports only ${n_stock} symbols: nm read nothing useful")
     endif()
@@ -69,7 +87,13 @@ if(MODE STREQUAL "exports")
     endif()
     if(unexpected)
         string(REPLACE ";" "\n" text "${unexpected}")
-        message(FATAL_ERROR "quadphase's library exports symbols beyond stock's and the extras:\n${text}")
+        message(FATAL_ERROR "quadphase's library exports symbols beyond stock's and the extras listed in "
+                            "${EXPECTED} (an internal made visible; a new public function goes into that list):\n"
+                            "${text}")
+    endif()
+    if(gone)
+        string(REPLACE ";" "\n" text "${gone}")
+        message(FATAL_ERROR "quadphase's library lacks extras listed in ${EXPECTED}:\n${text}")
     endif()
 elseif(MODE STREQUAL "abidiff")
     execute_process(COMMAND "${ABIDIFF}" --no-added-syms "${STOCK}" "${QUADPHASE}"

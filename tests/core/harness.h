@@ -10,10 +10,10 @@
 #include <string>
 #include <vector>
 
-#include "quadphase/brute_force_broad_phase.h"
-#include "quadphase/quadtree_broad_phase.h"
-#include "quadphase/ray.h"
-#include "quadphase/row_major.h"
+#include "brute_force_broad_phase.h"
+#include "quadtree_broad_phase.h"
+#include "ray.h"
+#include "row_major.h"
 
 #include "segment_entry.h"
 #include "test_support.h"

@@ -3,7 +3,7 @@
 #pragma once
 
 #include "quadphase/box.h"
-#include "quadphase/ray.h"
+#include "ray.h"
 #include "slab_clip.h"
 
 namespace qptest

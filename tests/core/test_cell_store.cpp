@@ -4,7 +4,7 @@
 
 #include <catch2/catch.hpp>
 
-#include "quadphase/cell_store.h"
+#include "cell_store.h"
 
 #include "test_support.h"
 

@@ -5,8 +5,8 @@
 
 #include <catch2/catch.hpp>
 
-#include "quadphase/box_simd.h"
-#include "quadphase/fat_policy.h"
+#include "box_simd.h"
+#include "fat_policy.h"
 
 #include "test_support.h"
 

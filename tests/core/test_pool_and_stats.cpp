@@ -5,7 +5,7 @@
 
 #include <catch2/catch.hpp>
 
-#include "quadphase/proxy_pool.h"
+#include "proxy_pool.h"
 
 #include "harness.h"
 

@@ -8,8 +8,8 @@
 
 #include <catch2/catch.hpp>
 
-#include "quadphase/pyramid.h"
-#include "quadphase/row_major.h"
+#include "pyramid.h"
+#include "row_major.h"
 
 #include "test_support.h"
 

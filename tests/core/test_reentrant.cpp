@@ -15,9 +15,9 @@
 
 #include <catch2/catch.hpp>
 
-#include "quadphase/brute_force_broad_phase.h"
-#include "quadphase/quadtree_broad_phase.h"
-#include "quadphase/ray.h"
+#include "brute_force_broad_phase.h"
+#include "quadtree_broad_phase.h"
+#include "ray.h"
 #include "test_support.h"
 
 using namespace quadphase;

@@ -6,7 +6,7 @@
 
 #include <catch2/catch.hpp>
 
-#include "quadphase/row_major.h"
+#include "row_major.h"
 
 using namespace quadphase;
 

@@ -14,9 +14,9 @@
 
 #include <catch2/catch.hpp>
 
+#include "broad_phase_interface.h"
 #include "quadphase/box.h"
-#include "quadphase/broad_phase_interface.h"
-#include "quadphase/error.h"
+#include "report_error.h"
 
 namespace qptest
 {

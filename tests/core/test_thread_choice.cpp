@@ -6,7 +6,7 @@
 
 #include <catch2/catch.hpp>
 
-#include "quadphase/thread_choice.h"
+#include "thread_choice.h"
 
 using quadphase::ThreadChoice;
 

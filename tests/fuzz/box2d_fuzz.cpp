@@ -45,14 +45,15 @@
 
 #include "box2d/b2_broad_phase.h"
 #include "box2d_fuzz_format.h"
+#include "box2d_internal.h"
 #include "fuzz_input.h"
 #include "fuzz_stats.h"
 #include "quadphase/box2d.h"
 #include "quadphase/error.h"
-#include "quadphase/ray.h"
-#include "quadphase/trace.h"
+#include "ray.h"
 #include "stock/stock_broad_phase.h"
 #include "strict_segment.h"
+#include "trace.h"
 
 namespace
 {

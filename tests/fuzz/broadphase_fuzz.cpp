@@ -34,12 +34,12 @@
 #include <utility>
 #include <vector>
 
+#include "brute_force_broad_phase.h"
 #include "fuzz_input.h"
 #include "fuzz_stats.h"
-#include "quadphase/brute_force_broad_phase.h"
 #include "quadphase/error.h"
-#include "quadphase/quadtree_broad_phase.h"
-#include "quadphase/ray.h"
+#include "quadtree_broad_phase.h"
+#include "ray.h"
 #include "strict_segment.h"
 
 using namespace quadphase;

@@ -12,7 +12,7 @@
 #include "fuzz_stats.h"
 #include "quadphase/box.h"
 #include "quadphase/error.h"
-#include "quadphase/ray.h"
+#include "ray.h"
 
 namespace quadphase
 {

@@ -15,7 +15,7 @@
 
 #include "../core/segment_entry.h"
 #include "quadphase/box.h"
-#include "quadphase/ray.h"
+#include "ray.h"
 
 namespace quadphase
 {

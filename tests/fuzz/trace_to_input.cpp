@@ -18,7 +18,7 @@
 
 #include "box2d_fuzz_format.h"
 #include "fuzz_input.h"
-#include "quadphase/trace.h"
+#include "trace.h"
 
 namespace
 {

@@ -18,6 +18,7 @@
 #include <catch2/catch.hpp>
 
 #include "box2d/box2d.h"
+#include "box2d_internal.h"
 #include "quadphase/box2d.h"
 
 namespace

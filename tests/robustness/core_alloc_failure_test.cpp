@@ -11,7 +11,7 @@
 
 #include <catch2/catch.hpp>
 
-#include "quadphase/quadtree_broad_phase.h"
+#include "quadtree_broad_phase.h"
 
 namespace
 {

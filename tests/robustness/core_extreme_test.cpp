@@ -9,8 +9,8 @@
 
 #include <catch2/catch.hpp>
 
-#include "quadphase/brute_force_broad_phase.h"
-#include "quadphase/quadtree_broad_phase.h"
+#include "brute_force_broad_phase.h"
+#include "quadtree_broad_phase.h"
 
 using namespace quadphase;
 

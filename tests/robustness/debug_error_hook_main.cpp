@@ -12,7 +12,7 @@
 #include <cstring>
 #include <string>
 
-#include "quadphase/error.h"
+#include "report_error.h"
 
 namespace
 {

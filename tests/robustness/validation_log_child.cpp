@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "box2d_internal.h"
 #include "child_broad_phase.h"
 #include "quadphase/box2d.h"
 #include "quadphase/error.h"

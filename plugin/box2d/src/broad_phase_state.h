@@ -6,9 +6,9 @@
 #include <vector>
 
 #include "box2d/b2_broad_phase.h"
-#include "quadphase/quadtree_broad_phase.h"
-#include "quadphase/shadow_validator.h"
-#include "quadphase/trace.h"
+#include "quadtree_broad_phase.h"
+#include "shadow_validator.h"
+#include "trace.h"
 
 namespace quadphase
 {

@@ -1,8 +1,10 @@
-// quadphase's API for Box2D users (quadphase/box2d.h): reaches a b2World's broadphase and forwards to its quadtree.
+// quadphase's API for Box2D users (quadphase/box2d.h) and for its own tools (box2d_internal.h): reaches a b2World's
+// broadphase and forwards to its quadtree.
 #include "quadphase/box2d.h"
 
 #include "box2d/b2_contact_manager.h"
 
+#include "box2d_internal.h"
 #include "broad_phase_state.h"
 
 namespace quadphase

@@ -1,5 +1,5 @@
 // BruteForceBroadPhase: every buffered proxy tested against every live one.
-#include "quadphase/brute_force_broad_phase.h"
+#include "brute_force_broad_phase.h"
 
 #include "quadphase/error.h"
 

@@ -1,5 +1,5 @@
 // CellStore: block allocation in the shared entry array, compaction in cell order, and the invariant check.
-#include "quadphase/cell_store.h"
+#include "cell_store.h"
 
 #include <algorithm>
 

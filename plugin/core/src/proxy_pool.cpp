@@ -1,10 +1,10 @@
 // ProxyPool: id allocation, the move buffer and its loan to FindPairs, and the invariant check.
-#include "quadphase/proxy_pool.h"
+#include "proxy_pool.h"
 
 #include <algorithm>
 #include <string>
 
-#include "quadphase/error.h"
+#include "report_error.h"
 
 namespace quadphase
 {

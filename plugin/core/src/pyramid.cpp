@@ -1,6 +1,6 @@
 // Pyramid: placing proxies in the static quadtree, moving them between cells (one at a time and in batches),
 // rebuilding, occupancy counts and the invariant check.
-#include "quadphase/pyramid.h"
+#include "pyramid.h"
 
 #include <algorithm>
 #include <string>

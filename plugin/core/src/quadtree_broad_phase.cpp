@@ -1,14 +1,14 @@
 // QuadtreeBroadPhase's proxies and settings: create, destroy, read, shift, configure and the task system. The other jobs have a file
 // each: quadtree_move_queue.cpp, quadtree_pairs.cpp, quadtree_queries.cpp, quadtree_tuning.cpp, quadtree_checks.cpp.
-#include "quadphase/quadtree_broad_phase.h"
+#include "quadtree_broad_phase.h"
 
 #include <cstring>
 #include <new>
 #include <stdexcept>
 #include <string>
 
-#include "quadphase/error.h"
 #include "quadtree_clock.h"
+#include "report_error.h"
 
 namespace quadphase
 {

@@ -1,5 +1,5 @@
 // QuadtreeBroadPhase's statistics (GetStats, ResetCounters) and its invariant check (Validate).
-#include "quadphase/quadtree_broad_phase.h"
+#include "quadtree_broad_phase.h"
 
 #include <algorithm>
 #include <cstring>

@@ -1,12 +1,12 @@
 // QuadtreeBroadPhase's moves: MoveProxy, the move queue (QueueMove's slow path and its apply) and the stale entries
 // that both leave for the next FindPairs or query.
-#include "quadphase/quadtree_broad_phase.h"
+#include "quadtree_broad_phase.h"
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 
-#include "quadphase/box_simd.h"
+#include "box_simd.h"
 #include "quadtree_clock.h"
 
 namespace quadphase

@@ -1,15 +1,15 @@
 // QuadtreeBroadPhase::FindPairs: one query per buffered proxy, serial or in fixed blocks on OpenMP threads or the
 // game's task system, with the same pairs in the same order every way.
-#include "quadphase/quadtree_broad_phase.h"
+#include "quadtree_broad_phase.h"
 
 #include <algorithm>
 #include <atomic>
 #include <exception>
 #include <mutex>
 
-#include "quadphase/box_simd.h"
-#include "quadphase/error.h"
+#include "box_simd.h"
 #include "quadtree_clock.h"
+#include "report_error.h"
 
 #include <omp.h>
 

@@ -1,11 +1,11 @@
 // QuadtreeBroadPhase's queries: Query (a box) and RayCast (a segment walked cell by cell along the ray), both safe
 // against callbacks that change the broadphase.
-#include "quadphase/quadtree_broad_phase.h"
+#include "quadtree_broad_phase.h"
 
 #include <algorithm>
 #include <vector>
 
-#include "quadphase/box_simd.h"
+#include "box_simd.h"
 #include "ray_walk.h"
 
 namespace quadphase

@@ -1,5 +1,5 @@
 // QuadtreeBroadPhase's automatic tuning: when to re-tune, the bounds and depth it picks, and the rebuild.
-#include "quadphase/quadtree_broad_phase.h"
+#include "quadtree_broad_phase.h"
 
 #include <algorithm>
 #include <cmath>

@@ -7,8 +7,8 @@
 #include <cstdint>
 #include <limits>
 
-#include "quadphase/pyramid.h"
-#include "quadphase/ray.h"
+#include "pyramid.h"
+#include "ray.h"
 
 namespace quadphase
 {

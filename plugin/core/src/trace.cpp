@@ -1,5 +1,5 @@
 // Trace: saving and loading recorded broadphase calls (the binary file format), and counting their UpdatePairs.
-#include "quadphase/trace.h"
+#include "trace.h"
 
 #include <cstdio>
 #include <cstring>

@@ -2,14 +2,29 @@
 // Only available when linking quadphase::box2d (the stock build has no quadtree).
 #pragma once
 
+#include <cstdint>
+#include <string>
+
 #include "box2d/b2_world.h"
 #include "quadphase/config.h"
-#include "quadphase/shadow_validator.h"
+#include "quadphase/error.h"
 #include "quadphase/stats.h"
-#include "quadphase/trace.h"
 
 namespace quadphase
 {
+
+/// The code of every mismatch validation reports through quadphase's error handler (quadphase/error.h); the
+/// message starts with "validation mismatch: " and names the call and the proxies.
+constexpr ErrorCode kValidationMismatch = ErrorCode::FirstAdapterCode;
+
+/// What validation found so far.
+struct ValidationReport
+{
+    int64_t checks = 0;        ///< UpdatePairs calls compared
+    int64_t pairsCompared = 0; ///< distinct pairs compared, summed over checks
+    int64_t mismatches = 0;    ///< checks (or fat-AABB comparisons) that disagreed
+    std::string firstMismatch; ///< description of the first mismatch, empty when none
+};
 
 /// Applies settings to the world's broadphase. A changed layout setting (depth, maxDepth, autoBounds, bounds,
 /// cellToProxyRatio) rebuilds its quadtree (O(proxies)); thread and task-system settings alone do not, so they
@@ -35,7 +50,9 @@ void ResetCounters(b2World& world);
 /// Times MoveProxy/CreateProxy/DestroyProxy into Stats::updateSeconds (costs two clock reads per call).
 void SetTiming(b2World& world, bool enabled);
 
-/// Switches validation mode (a shadow b2DynamicTree checked at every UpdatePairs; see ShadowValidator).
+/// Switches validation mode: a shadow b2DynamicTree fed the same calls with Box2D 2.4.1's own b2BroadPhase logic,
+/// whose pairs are compared with the quadtree's at every UpdatePairs, and whose fat AABBs with the quadtree's bit
+/// for bit. Costs about as much as a second broadphase; meant for tests and debugging.
 /// QUADPHASE_VALIDATE=1 in the environment switches it on for every world from its creation (except in set-user-ID
 /// and set-group-ID programs, which ignore every QUADPHASE_* variable).
 void SetValidation(b2World& world, bool enabled);
@@ -43,18 +60,8 @@ void SetValidation(b2World& world, bool enabled);
 /// What validation found; all zero when it is off.
 ValidationReport GetValidationReport(const b2World& world);
 
-/// Records every later broadphase call of the world into `trace` (nullptr stops); see quadphase/trace.h.
-void SetTrace(b2World& world, Trace* trace);
-
-/// The world's quadtree, for drawing and inspection. Valid while the world lives.
-const QuadtreeBroadPhase& GetQuadtree(const b2World& world);
-
 // The same for a b2BroadPhase used on its own (tests, fuzzing, programs that drive the broadphase directly).
 // b2BroadPhase declares only stock Box2D 2.4.1's members, so its extras are these free functions.
-
-/// The broadphase's quadtree. Valid while the broadphase lives.
-QuadtreeBroadPhase& GetQuadtree(b2BroadPhase& broadPhase);
-const QuadtreeBroadPhase& GetQuadtree(const b2BroadPhase& broadPhase);
 
 /// Validation mode of one broadphase (see SetValidation(b2World&, bool)).
 void SetValidation(b2BroadPhase& broadPhase, bool enabled);
@@ -62,8 +69,5 @@ bool IsValidating(const b2BroadPhase& broadPhase);
 
 /// What validation found; all zero when it is off.
 ValidationReport GetValidationReport(const b2BroadPhase& broadPhase);
-
-/// Records every later call of the broadphase into `trace` (nullptr stops).
-void SetTrace(b2BroadPhase& broadPhase, Trace* trace);
 
 } // namespace quadphase

@@ -34,13 +34,6 @@ ErrorHandler SetErrorHandler(ErrorHandler handler, void* context = nullptr);
 /// the previous setting. Not thread-safe, like SetErrorHandler.
 bool SetStrictErrors(bool strict);
 
-/// Reports an error through the installed handler. printf-style.
-void ReportError(ErrorCode code, const char* format, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 2, 3)))
-#endif
-    ;
-
 /// Human-readable name of a code ("engine adapter error" for every adapter code: its message says more).
 const char* ErrorCodeName(ErrorCode code);
 

@@ -5,8 +5,8 @@
 #include <cstdint>
 #include <cstring>
 
+#include "proxy_pool.h"
 #include "quadphase/box.h"
-#include "quadphase/proxy_pool.h"
 
 namespace quadphase
 {

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "quadphase/box.h"
-#include "quadphase/ray.h"
+#include "ray.h"
 
 namespace quadphase
 {

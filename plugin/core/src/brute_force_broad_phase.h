@@ -3,9 +3,9 @@
 
 #include <vector>
 
-#include "quadphase/broad_phase_interface.h"
-#include "quadphase/fat_policy.h"
-#include "quadphase/proxy_pool.h"
+#include "broad_phase_interface.h"
+#include "fat_policy.h"
+#include "proxy_pool.h"
 
 namespace quadphase
 {

@@ -7,9 +7,9 @@
 #include <utility>
 #include <vector>
 
+#include "cell_store.h"
 #include "quadphase/box.h"
-#include "quadphase/cell_store.h"
-#include "quadphase/row_major.h"
+#include "row_major.h"
 
 namespace quadphase
 {

@@ -12,8 +12,8 @@
 #include <emmintrin.h>
 #endif
 
+#include "fat_policy.h"
 #include "quadphase/box.h"
-#include "quadphase/fat_policy.h"
 
 namespace quadphase
 {

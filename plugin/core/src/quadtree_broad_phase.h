@@ -8,15 +8,15 @@
 #include <string>
 #include <vector>
 
-#include "quadphase/box_mirror.h"
-#include "quadphase/box_simd.h"
-#include "quadphase/broad_phase_interface.h"
+#include "box_mirror.h"
+#include "box_simd.h"
+#include "broad_phase_interface.h"
+#include "fat_policy.h"
+#include "proxy_pool.h"
+#include "pyramid.h"
 #include "quadphase/config.h"
-#include "quadphase/fat_policy.h"
-#include "quadphase/proxy_pool.h"
-#include "quadphase/pyramid.h"
 #include "quadphase/stats.h"
-#include "quadphase/thread_choice.h"
+#include "thread_choice.h"
 
 namespace quadphase
 {

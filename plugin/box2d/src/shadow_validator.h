@@ -7,24 +7,11 @@
 
 #include "box2d/b2_collision.h"
 #include "box2d/b2_dynamic_tree.h"
-#include "quadphase/error.h"
-#include "quadphase/quadtree_broad_phase.h"
+#include "quadphase/box2d.h" // ValidationReport, kValidationMismatch: what users see of validation
+#include "quadtree_broad_phase.h"
 
 namespace quadphase
 {
-
-/// The code of every mismatch validation reports through quadphase's error handler (quadphase/error.h); the
-/// message starts with "validation mismatch: " and names the call and the proxies.
-constexpr ErrorCode kValidationMismatch = ErrorCode::FirstAdapterCode;
-
-/// What validation found so far.
-struct ValidationReport
-{
-    int64_t checks = 0;        ///< UpdatePairs calls compared
-    int64_t pairsCompared = 0; ///< distinct pairs compared, summed over checks
-    int64_t mismatches = 0;    ///< checks (or fat-AABB comparisons) that disagreed
-    std::string firstMismatch; ///< description of the first mismatch, empty when none
-};
 
 /// Mirrors every broadphase call into a b2DynamicTree with Box2D 2.4.1's own b2BroadPhase logic, and at each
 /// UpdatePairs compares the set of pairs the quadtree reported with the set the stock logic gives: every proxy

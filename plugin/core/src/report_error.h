@@ -1,0 +1,17 @@
+// How quadphase's own code reports bad input and misuse: through the handler a user installs with SetErrorHandler
+// (quadphase/error.h). The core and the Box2D adapter call it; users do not.
+#pragma once
+
+#include "quadphase/error.h"
+
+namespace quadphase
+{
+
+/// Reports an error through the installed handler. printf-style.
+void ReportError(ErrorCode code, const char* format, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
+} // namespace quadphase
