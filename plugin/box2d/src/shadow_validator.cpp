@@ -1,5 +1,5 @@
 // ShadowValidator: a b2DynamicTree fed the same calls as the quadtree, compared with it at every UpdatePairs.
-#include "quadphase/shadow_validator.h"
+#include "shadow_validator.h"
 
 #include <algorithm>
 #include <cinttypes>
@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <cstdio>
 
-#include "quadphase/error.h"
+#include "report_error.h"
 #include "validation_log.h"
 
 namespace quadphase
