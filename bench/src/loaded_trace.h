@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "trace.h"
 #include "step_index.h"
 #include "tool_common.h"
+#include "trace.h"
 
 namespace qpbench
 {

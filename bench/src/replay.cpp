@@ -25,10 +25,10 @@
 
 #include <omp.h>
 
+#include "brute_force_broad_phase.h"
 #include "core_engine.h"
 #include "loaded_trace.h"
 #include "pair_hash.h"
-#include "brute_force_broad_phase.h"
 #include "quadphase/config.h"
 #include "quadtree_broad_phase.h"
 #include "replay_loop.h"

@@ -19,8 +19,8 @@
 #include "callgrind_markers.h"
 #include "loaded_trace.h"
 #include "pair_hash.h"
-#include "trace.h"
 #include "tool_common.h"
+#include "trace.h"
 
 namespace qpbench
 {
