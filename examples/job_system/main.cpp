@@ -1,5 +1,5 @@
-// quadphase-jobs: pair generation on a game's own job system. Steps one scene twice, first on OpenMP's threads,
-// then with a small job system of its own (support/job_system: a fixed pool of std::threads and a
+// quadphase-jobs: pair generation on a game's own job system. Steps one scene twice, first on OpenMP's threads
+// (serially in a build without OpenMP, as Config::threads says), then with a small job system of its own (support/job_system: a fixed pool of std::threads and a
 // queue) handed over with quadphase::SetTaskSystem, and shows that the two simulations end bit-identical and
 // that the pool's threads did the parallel work.
 //
@@ -75,7 +75,9 @@ int main(int argc, char** argv)
     }
     std::printf("particles %d, %d steps\n", kSize, kSteps);
     const Result openmp = Run(workers, nullptr);
-    Print(("OpenMP, " + std::to_string(workers) + " threads").c_str(), openmp);
+    Print(quadphase::OpenMPAvailable() ? ("OpenMP, " + std::to_string(workers) + " threads").c_str()
+                                       : "serial (built without OpenMP)",
+          openmp);
 
     qpjobs::JobSystem jobs(workers);
     const Result onJobs = Run(workers, &jobs);

@@ -75,7 +75,12 @@ bool Box2DMove(float extension, float multiplier, b2AABB& treeAABB, const b2AABB
     // Predict AABB movement
     b2Vec2 d = multiplier * displacement;
 
-    if (d.x < 0.0f)
+    // The directions pass through volatiles (not in Box2D) so that this reference keeps IEEE's results: from the
+    // float compares themselves, clang 14 for WebAssembly (em++ -O1 and up) turns the if/else into
+    // upperBound + (d <= 0 ? -0.0f : d), which gives -0 where -0 + +0 is +0 (upperBound -0, d +0: extension -0).
+    volatile bool left = d.x < 0.0f;
+    volatile bool down = d.y < 0.0f;
+    if (left)
     {
         fatAABB.lowerBound.x += d.x;
     }
@@ -84,7 +89,7 @@ bool Box2DMove(float extension, float multiplier, b2AABB& treeAABB, const b2AABB
         fatAABB.upperBound.x += d.x;
     }
 
-    if (d.y < 0.0f)
+    if (down)
     {
         fatAABB.lowerBound.y += d.y;
     }

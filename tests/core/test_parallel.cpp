@@ -137,6 +137,37 @@ TEST_CASE("A task system that skips items or runs items out of range loses no pa
     }
 }
 
+// The documented fallback of Config::threads: the build's CMake says whether it was built with OpenMP
+// (QUADPHASE_TEST_OPENMP), so that a build which lost OpenMP unnoticed fails here instead of running serially.
+TEST_CASE(
+    "threads > 1 without a task system runs on OpenMP, or serially and unreported in a build without it",
+    "[parallel][fallback]")
+{
+    REQUIRE(OpenMPAvailable() == bool(QUADPHASE_TEST_OPENMP));
+    const HarnessSettings s = TaskCase(94200u, 1500);
+    int64_t parallelCalls = 0;
+    const std::vector<std::vector<Pair>> serial = PairHistory(s, 1, Schedule::Static, 0, parallelCalls);
+
+    ErrorCounter errors;
+    HarnessSettings four = s;
+    four.config.threads = 4;
+    four.config.parallelThreshold = 0;
+    Harness h(four);
+    h.Record(true);
+    h.Run();
+    REQUIRE(h.History() == serial);
+    CHECK(h.Quadtree().GetConfig().threads == 4); // kept as given, in either build
+    CHECK(errors.Total() == 0);
+    if (OpenMPAvailable())
+    {
+        CHECK(h.Quadtree().GetStats().parallelCalls > 0);
+    }
+    else
+    {
+        CHECK(h.Quadtree().GetStats().parallelCalls == 0);
+    }
+}
+
 TEST_CASE("A half-set task system is rejected with a clear error and changes nothing",
           "[parallel][tasks][errors]")
 {
@@ -161,7 +192,8 @@ TEST_CASE("A half-set task system is rejected with a clear error and changes not
     REQUIRE(qt.Validate() == "");
 }
 
-TEST_CASE("Parallel FindPairs equals the serial loop at 1-4 threads under every schedule", "[parallel]")
+TEST_CASE("Parallel FindPairs equals the serial loop at 1-4 threads under every schedule",
+          "[parallel][openmp]")
 {
     for (Dist dist : {Dist::Uniform, Dist::LogMixed})
     {

@@ -139,7 +139,8 @@ TEST_CASE("Stats describe the pyramid and count the work", "[stats]")
             sum += c;
         }
         REQUIRE(sum == st.proxyCount);
-        REQUIRE(st.leafSize == (st.bounds.maxX - st.bounds.minX) / float(1 << st.depth));
+        // maxX is minX + side, rounded: (maxX - minX) need not give the side back, leafSize x 2^depth does.
+        REQUIRE(st.bounds.maxX == st.bounds.minX + st.leafSize * float(1 << st.depth));
         int32_t outside = 0;
         for (ProxyId id : h.Live())
         {

@@ -54,7 +54,7 @@ RunResult Run(SceneId id, int size, int threads, Schedule schedule, int chunk,
 
 } // namespace
 
-TEST_CASE("bodies are bit-identical at 1-4 threads under every schedule", "[parallel][determinism]")
+TEST_CASE("bodies are bit-identical at 1-4 threads under every schedule", "[parallel][determinism][openmp]")
 {
     struct Case
     {

@@ -1,6 +1,7 @@
-// std::bad_alloc inside FindPairs, at every allocation it makes, on 2 threads: the exception must reach the caller
-// (an exception that leaves an OpenMP region ends the program), the broadphase must stay valid, and the next
-// FindPairs must report every pair a twin that never failed reports: nothing queued or buffered is lost.
+// std::bad_alloc inside FindPairs, at every allocation it makes, on 2 threads (OpenMP's, or without OpenMP a task
+// system's): the exception must reach the caller (an exception that leaves an OpenMP region ends the program),
+// the broadphase must stay valid, and the next FindPairs must report every pair a twin that never failed reports:
+// nothing queued or buffered is lost.
 // This executable replaces the global operator new, so it is kept apart from the other tests.
 #include <algorithm>
 #include <atomic>
@@ -109,6 +110,19 @@ Box RandomBox(std::mt19937& rng, float world)
     return Box{x - h, y - h, x + h, y + h};
 }
 
+// Without OpenMP, Config::threads runs serially; the blocks of the parallel search then run on a task system that
+// runs every item in one range on the calling thread: the same blocks, the same capture of a block's exception.
+void* RunHere(TaskCallback* task, int itemCount, int /*minRange*/, void* taskContext, void* /*userContext*/)
+{
+    task(0, itemCount, 0u, taskContext);
+    return nullptr; // done: finishTask is not called
+}
+
+void NeverCalled(void* /*userTask*/, void* /*userContext*/)
+{
+    std::abort();
+}
+
 std::vector<Pair> Sorted(std::vector<Pair> pairs)
 {
     for (Pair& p : pairs)
@@ -131,6 +145,12 @@ TEST_CASE("std::bad_alloc at any allocation of FindPairs on 2 threads: thrown to
     Config config;
     config.threads = 2;           // parallel regions whatever the machine measures
     config.parallelThreshold = 8; // and for small batches too
+    if (!OpenMPAvailable())
+    {
+        config.taskSystem.enqueueTask = &RunHere;
+        config.taskSystem.finishTask = &NeverCalled;
+        config.taskSystem.workerCount = 2;
+    }
     QuadtreeBroadPhase failing(FatPolicy{}, config);
     QuadtreeBroadPhase twin(FatPolicy{}, config);
     std::mt19937 rng(2026u);

@@ -39,6 +39,14 @@ inline float SelectBits(bool condition, float a, float b)
     return out;
 }
 
+/// `v < 0.0f` decided on the bits: negative, not zero, not NaN.
+inline bool IsNegative(float v)
+{
+    uint32_t bits;
+    std::memcpy(&bits, &v, sizeof(bits));
+    return bits > 0x80000000u && bits <= 0xFF800000u; // -0 is 0x80000000; -infinity 0xFF800000, then NaNs
+}
+
 /// The fat box b2DynamicTree::MoveProxy would give a moved shape: its box grown by `extension`, then stretched by
 /// multiplier x displacement in the direction of motion.
 inline Box MovedFatBox(const FatPolicy& policy, const Box& tight, Vec2 displacement)
@@ -52,8 +60,11 @@ inline Box MovedFatBox(const FatPolicy& policy, const Box& tight, Vec2 displacem
     // same floats with any compiler and flags. (An addition of "-0.0f" for that side was tried: exact in IEEE
     // arithmetic, but clang -O1 then produced a different sign of zero in one fuzzed case.) The selects copy bits
     // through a mask rather than use ?: on floats, which compilers turn into branches on the (random) direction.
-    const bool left = dx < 0.0f;
-    const bool down = dy < 0.0f;
+    // The direction is tested on the bits: from a float compare, clang 14 (-O1 and up, Emscripten's too) rewrites
+    // select(dx < 0, maxX, maxX + dx) as maxX + (dx <= 0 ? -0.0f : dx), which turns maxX = -0 into -0 instead of
+    // +0 when dx = +0 (reached with extension -0; docs/design.md, "Platforms and floating point").
+    const bool left = IsNegative(dx);
+    const bool down = IsNegative(dy);
     fat.minX = SelectBits(left, fat.minX + dx, fat.minX);
     fat.maxX = SelectBits(left, fat.maxX, fat.maxX + dx);
     fat.minY = SelectBits(down, fat.minY + dy, fat.minY);

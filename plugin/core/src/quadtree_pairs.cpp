@@ -11,7 +11,10 @@
 #include "quadtree_clock.h"
 #include "report_error.h"
 
+// _OPENMP: the compiler's own mark of -fopenmp, so the sources follow whatever QUADPHASE_OPENMP gave them.
+#ifdef _OPENMP
 #include <omp.h>
+#endif
 
 namespace quadphase
 {
@@ -127,9 +130,20 @@ void QuadtreeBroadPhase::StartTeam()
         // A region that only counts its threads: libgomp creates the team here and keeps it for the later
         // regions of the same size. (GCC drops a region with an empty body, threads and all.)
         std::atomic<int> started{0};
+#ifdef _OPENMP
 #pragma omp parallel num_threads(threads)
+#endif
         started.fetch_add(1, std::memory_order_relaxed);
     }
+}
+
+bool OpenMPAvailable()
+{
+#ifdef _OPENMP
+    return true;
+#else
+    return false;
+#endif
 }
 
 int QuadtreeBroadPhase::Threads() const
@@ -139,7 +153,11 @@ int QuadtreeBroadPhase::Threads() const
         const int workers = m_config.taskSystem.workerCount;
         return m_config.threads > 0 ? std::min(m_config.threads, workers) : workers;
     }
+#ifdef _OPENMP
     return m_config.threads > 0 ? m_config.threads : omp_get_max_threads();
+#else
+    return 1; // serial at any Config::threads (see its declaration)
+#endif
 }
 
 // The buffered proxies are cut into fixed blocks of kBlock queries, whatever the thread count and whoever runs them
@@ -248,6 +266,7 @@ void QuadtreeBroadPhase::FindPairsParallel(std::vector<Pair>& out, int threads)
 
 void QuadtreeBroadPhase::RunOnOpenMP(BlockSearch& search, int threads)
 {
+#ifdef _OPENMP
     omp_sched_t previousKind;
     int previousChunk;
     omp_get_schedule(&previousKind, &previousChunk);
@@ -261,6 +280,15 @@ void QuadtreeBroadPhase::RunOnOpenMP(BlockSearch& search, int threads)
         search.Run(b);
     }
     omp_set_schedule(previousKind, previousChunk); // the schedule ICV belongs to the caller's thread
+#else
+    // Not reached: without OpenMP, Threads() is 1 unless a task system is set. The blocks in order are the
+    // serial loop's output all the same.
+    (void)threads;
+    for (int64_t b = 0; b < search.blocks; ++b)
+    {
+        search.Run(b);
+    }
+#endif
 }
 
 // A game's job system is not ours to trust blindly: a block it skipped or ran outside the range is reported and

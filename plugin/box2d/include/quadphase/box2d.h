@@ -32,9 +32,9 @@ struct ValidationReport
 void Configure(b2World& world, const Config& config);
 
 /// Hands pair generation to the game's own job system (quadphase/task_system.h): from the next step on it runs
-/// on the game's workers and quadphase starts no OpenMP thread. TaskSystem{} goes back to OpenMP. The pairs and
-/// their order, hence the simulation, do not change. Call between steps; the callbacks must outlive the world
-/// or be replaced first. Throws std::invalid_argument for a half-set TaskSystem. Same as Config::taskSystem
+/// on the game's workers and quadphase starts no OpenMP thread. TaskSystem{} goes back to OpenMP (to serial in a
+/// build without it, see Config::threads). The pairs and their order, hence the simulation, do not change. Call
+/// between steps; the callbacks must outlive the world or be replaced first. Throws std::invalid_argument for a half-set TaskSystem. Same as Config::taskSystem
 /// through Configure.
 void SetTaskSystem(b2World& world, const TaskSystem& tasks);
 

@@ -39,6 +39,10 @@ struct Config
     /// core count), but serial while serial calls are measured faster (a machine whose cores are busy with other
     /// work makes every parallel region wait; see QuadtreeBroadPhase::FindPairs). N > 0: exactly N, always.
     /// The pairs and their order do not depend on it.
+    /// In a build without OpenMP (OpenMPAvailable() false: QUADPHASE_OPENMP=OFF, as with Apple's clang or
+    /// Emscripten) and without a taskSystem, every value runs serially: the fallback is documented here and not
+    /// reported as an error, since a thread count asks for speed, never for other pairs. The value is kept as
+    /// given (GetConfig returns it) and Stats::parallelCalls stays 0; set a taskSystem to run in parallel there.
     int threads = 0;
 
     /// OpenMP schedule of the loop over blocks of buffered proxies, and its chunk size in blocks (0: OpenMP's
@@ -66,9 +70,14 @@ struct Config
     /// The game's job system (see quadphase/task_system.h). When set, parallel pair generation runs on it and
     /// quadphase makes no OpenMP call; `threads` then counts the game's workers (0: up to taskSystem.workerCount,
     /// chosen by measurement as for OpenMP; N > 0: min(N, workerCount)), and `schedule` and `chunk` do not apply.
-    /// Empty by default: OpenMP. Configure rejects a half-set one (std::invalid_argument).
+    /// Empty by default: OpenMP (serial in a build without it, see `threads`). Configure rejects a half-set one
+    /// (std::invalid_argument).
     TaskSystem taskSystem;
 };
+
+/// Whether this build of the library runs `Config::threads` on OpenMP (built with QUADPHASE_OPENMP=ON). When
+/// false, pair generation runs serially unless a Config::taskSystem is set.
+bool OpenMPAvailable();
 
 /// Deepest pyramid allowed: 4^12 leaf cells already cost hundreds of MB.
 constexpr int kMaxDepth = 12;
