@@ -1,8 +1,9 @@
 # cmake -P driver of abi_layout: runs the layout dump built against stock's headers (-DSTOCK=) and against
-# quadphase's (-DQUADPHASE=), prints both side by side, and fails unless every line is identical.
+# quadphase's (-DQUADPHASE=), prints both side by side, and fails unless every line is identical. -DEMULATOR=<command>
+# starts them where the build machine cannot (CMAKE_CROSSCOMPILING_EMULATOR).
 cmake_minimum_required(VERSION 3.20)
 foreach(var STOCK QUADPHASE)
-    execute_process(COMMAND "${${var}}" OUTPUT_VARIABLE out_${var} RESULT_VARIABLE rc)
+    execute_process(COMMAND ${EMULATOR} "${${var}}" OUTPUT_VARIABLE out_${var} RESULT_VARIABLE rc)
     if(NOT rc EQUAL 0)
         message(FATAL_ERROR "${${var}} failed (${rc})")
     endif()

@@ -1,6 +1,8 @@
 # cmake -P driver of abi_swap_probe_*: the binary swap, as a user does it with LD_LIBRARY_PATH.
 #   -DPROBE=<swap_probe built against stock headers and libbox2d.so.2>  -DSTOCK_LIB_DIR= -DQUADPHASE_LIB_DIR=
 #   -DNM=<nm>  -DINTERPOSING=0|1  -DTEMPLATES=0|1 (the probe has its template scene)  -DWORK_DIR=<scratch>
+#   [-DEMULATOR=<command>: starts the probe where the build machine cannot (CMAKE_CROSSCOMPILING_EMULATOR); the
+#   dynamic loader's variables below reach the program's loader through it]
 # 1. On the stock library (LD_BIND_NOW=1): the probe must load, say "stock" and pass its inline checks.
 # 2. On quadphase's (LD_LIBRARY_PATH, QUADPHASE_VALIDATE=1, LD_BIND_NOW=1, LD_DEBUG=bindings): it must say
 #    "quadphase", pass its inline checks, give the same "sensors" lines (contacts at every step, query and ray-cast
@@ -17,7 +19,7 @@ file(MAKE_DIRECTORY "${WORK_DIR}")
 
 function(run_probe name libdir extra_env)
     execute_process(
-        COMMAND "${CMAKE_COMMAND}" -E env "LD_LIBRARY_PATH=${libdir}" ${extra_env} "${PROBE}"
+        COMMAND "${CMAKE_COMMAND}" -E env "LD_LIBRARY_PATH=${libdir}" ${extra_env} ${EMULATOR} "${PROBE}"
         OUTPUT_VARIABLE out ERROR_VARIABLE err RESULT_VARIABLE rc)
     file(WRITE "${WORK_DIR}/${name}.out" "${out}")
     file(WRITE "${WORK_DIR}/${name}.err" "${err}")

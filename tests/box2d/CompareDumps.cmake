@@ -1,6 +1,9 @@
 # Runs a query/ray-cast dump program and, when REFERENCE is given, requires its output to equal REFERENCE
 # byte for byte:
-#   cmake -D PROGRAM=<exe> [-D ARGS="<args>"] -D OUTPUT=<file> [-D REFERENCE=<file>] -P CompareDumps.cmake
+#   cmake -D PROGRAM=<exe> [-D ARGS="<args>"] -D OUTPUT=<file> [-D REFERENCE=<file>] [-D EMULATOR=<command>]
+#         -P CompareDumps.cmake
+# EMULATOR (a list: program and arguments) starts PROGRAM where the build machine cannot, as
+# CMAKE_CROSSCOMPILING_EMULATOR does for ctest.
 #
 # On a difference it prints the first 6000 characters of `diff -U1 REFERENCE OUTPUT` and fails.  The program's
 # stderr (per-scene summary, self-check failures) is always shown.
@@ -18,7 +21,7 @@ file(REMOVE "${OUTPUT}")
 separate_arguments(_args UNIX_COMMAND "${ARGS}")
 
 execute_process(
-    COMMAND "${PROGRAM}" "${OUTPUT}" ${_args}
+    COMMAND ${EMULATOR} "${PROGRAM}" "${OUTPUT}" ${_args}
     RESULT_VARIABLE _rc
     ERROR_VARIABLE _err)
 message("${_err}")

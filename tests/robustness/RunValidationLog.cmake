@@ -1,5 +1,6 @@
 # cmake -P driver of robustness_validation_log: QUADPHASE_VALIDATE_LOG keeps what validation found in a program
-# that never exits normally.   -DCHILD=<validation_log_child> -DWORK_DIR=<scratch>
+# that never exits normally.   -DCHILD=<validation_log_child> -DWORK_DIR=<scratch> [-DEMULATOR=<command>: starts
+# the child where the build machine cannot, as CMAKE_CROSSCOMPILING_EMULATOR does for ctest]
 # For each ending (abort, SIGKILL, strict mode's abort at the first mismatch), the child runs with
 # QUADPHASE_VALIDATE=1, QUADPHASE_VALIDATE_LOG=<file>, QUADPHASE_VALIDATE_LOG_EVERY=50 and must die; the file
 # must then hold its mismatches as they were found and the running summaries, in order. A second run appends.
@@ -10,7 +11,7 @@ file(MAKE_DIRECTORY "${WORK_DIR}")
 function(run_child mode count log)
     execute_process(
         COMMAND "${CMAKE_COMMAND}" -E env QUADPHASE_VALIDATE=1 "QUADPHASE_VALIDATE_LOG=${log}"
-                QUADPHASE_VALIDATE_LOG_EVERY=50 "${CHILD}" ${mode} ${count}
+                QUADPHASE_VALIDATE_LOG_EVERY=50 ${EMULATOR} "${CHILD}" ${mode} ${count}
         OUTPUT_VARIABLE out ERROR_VARIABLE err RESULT_VARIABLE rc)
     if(rc EQUAL 0 OR rc EQUAL 2)
         message(FATAL_ERROR "the ${mode} child did not die (${rc}):\n${out}\n${err}")
