@@ -16,8 +16,8 @@ namespace detail
 
 /// The record of proxy id is m_tree.nodes[id]: its fat AABB and user data, height 0 and child1 b2_nullNode (a
 /// leaf) while it lives, height -1 and user data nullptr once destroyed (docs/design.md, "Binary compatibility").
-/// The array grows by doubling and is handed to the core as its BoxMirror, which copies every fat box it changes
-/// into it (queued moves applied, ShiftOrigin).
+/// The array grows by doubling and is handed to the core as its BoxMirror, which copies the fat boxes it changes
+/// itself (ShiftOrigin) into it; the fat box of a move is written here, once.
 class NodeRecords
 {
 public:
@@ -35,13 +35,13 @@ public:
     void Destroy(const QuadtreeBroadPhase& core, ProxyId id);
 
     /// b2BroadPhase::MoveProxy. The record gets the move's outcome now, as stock's tree does inside MoveProxy, so
-    /// stock's inline GetFatAABB and TestOverlap never read a box the core has not applied yet. The record is the
-    /// fat box after every earlier move (the core applies its queue before a proxy's second move), so the core's
-    /// own test on it (branch-free, SSE where available) gives, bit for bit, the box the core computes when it
-    /// applies this move. A move that keeps its fat box therefore changes nothing in the core either, and is not
-    /// queued: most moves, so the queue and its batch see only the fat boxes that changed. A box the core must
-    /// report (non-finite, inverted) is queued whatever the test says; so is a move of an id without a record (an
-    /// unknown one, or any in stock-tree mode).
+    /// stock's inline GetFatAABB and TestOverlap never read a box the core has not applied yet. The record holds
+    /// the fat box after every earlier call, so the fat-box test runs here, once, on it (branch-free, SSE where
+    /// available), and the core is handed the outcome (QueueFatMove) and applies it in its batch, neither testing
+    /// again nor writing the record back. A move that keeps its fat box changes nothing, in the core either, and
+    /// is not queued: most moves, so the queue and its batch see only the fat boxes that changed. A bad box that
+    /// keeps it goes to the core as it came, to be reported; so does an id without a record (an unknown one, or
+    /// any in stock-tree mode).
     void Move(QuadtreeBroadPhase& core, ProxyId id, const Box& tight, Vec2 displacement)
     {
         if (!HasRecord(id))
@@ -52,13 +52,16 @@ public:
         b2AABB& record = m_nodes[id].aabb;
         Box fat;
         std::memcpy(&fat, static_cast<const void*>(&record), sizeof fat);
-        if (RefattenSimd(Box2DFatPolicy(), fat, tight, displacement) || !IsSaneSimd(tight))
+        if (RefattenSimd(Box2DFatPolicy(), fat, tight, displacement))
         {
-            // Queued before the record is written: a second move applies the queue, which rewrites the record
-            // with the first move's box.
+            // Queued before the record is written: an error hook that throws for a bad box leaves both as they were.
+            core.QueueFatMove(id, tight, fat);
+            std::memcpy(static_cast<void*>(&record), &fat, sizeof fat);
+        }
+        else if (!IsSaneSimd(tight))
+        {
             core.QueueMove(id, tight, displacement);
         }
-        std::memcpy(static_cast<void*>(&record), &fat, sizeof fat);
     }
 
 private:
