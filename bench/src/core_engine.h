@@ -46,7 +46,7 @@ public:
         {
             if (!m_track)
             {
-                m_bp.QueueMove(id, tight, d); // what the Box2D adapter calls (b2BroadPhase::MoveProxy)
+                m_bp.QueueMove(id, tight, d); // queued, as b2BroadPhase::MoveProxy queues it
                 return;
             }
         }

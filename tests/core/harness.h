@@ -21,6 +21,7 @@
 namespace qptest
 {
 
+using quadphase::BoxMirror;
 using quadphase::BruteForceBroadPhase;
 using quadphase::Config;
 using quadphase::FatPolicy;
@@ -103,7 +104,10 @@ struct HarnessSettings
     bool queries = true;     // include Query and RayCast checks
     bool timing = false;     // QuadtreeBroadPhase::SetTiming
     int validateEvery = 8;   // Validate() after every n-th operation (and after every FindPairs)
-    bool queueMoves = false; // move the quadtree's proxies with QueueMove (as the Box2D adapter does)
+    bool queueMoves = false; // move the quadtree's proxies with QueueMove, applied later
+    // with queueMoves: run the fat-box test on a copy of every fat box kept beside the quadtree (its mirror), and
+    // queue the changed ones with QueueFatMove, as the Box2D adapter does
+    bool fatMoves = false;
 };
 
 /// Settings for `operations` random operations on about `targetProxies` proxies drawn from `dist`; the rest
@@ -134,7 +138,7 @@ inline std::string Describe(const HarnessSettings& s)
        << " autoBounds=" << s.config.autoBounds << " bounds=" << Str(s.config.bounds)
        << " extension=" << s.policy.extension << " multiplier=" << s.policy.multiplier << " world=" << s.world
        << " target=" << s.targetProxies << " ops=" << s.operations << " shifts=" << s.shifts
-       << " queueMoves=" << s.queueMoves;
+       << " queueMoves=" << s.queueMoves << " fatMoves=" << s.fatMoves;
     return os.str();
 }
 
@@ -267,6 +271,11 @@ public:
         QP_REQUIRE_MSG(a == b, Where() << "CreateProxy ids differ: quadtree " << a << ", brute force " << b);
         QP_REQUIRE_MSG(!IsLive(a), Where() << "CreateProxy returned live id " << a);
         Grow(a);
+        if (m_settings.fatMoves)
+        {
+            m_records[size_t(a)] =
+                m_qt.GetPool().Fat(a); // the quadtree copies no new proxy's box to its mirror
+        }
         m_tight[size_t(a)] = tight;
         m_buffered[size_t(a)] = 1;
         m_liveFlag[size_t(a)] = 1;
@@ -307,7 +316,7 @@ public:
         {
             // No answer to compare: the quadtree applies the move later (at FindPairs, or when something reads a
             // fat box first). Its fat box is compared after the next FindPairs, its pairs at that FindPairs.
-            m_qt.QueueMove(id, tight, displacement);
+            QueueMove(id, tight, displacement);
             const bool b = m_bf.MoveProxy(id, tight, displacement);
             m_queued.push_back(id);
             m_tight[size_t(id)] = tight;
@@ -633,6 +642,37 @@ private:
             m_tight.resize(size_t(id) + 1, Box{0, 0, 0, 0});
             m_user.resize(size_t(id) + 1, nullptr);
         }
+        if (m_settings.fatMoves && size_t(id) >= m_records.size())
+        {
+            // The records move: the quadtree copies the boxes it changes itself (ShiftOrigin) to the new ones.
+            m_records.resize(std::max<size_t>(16, 2 * (size_t(id) + 1)), Box{0, 0, 0, 0});
+            BoxMirror mirror;
+            mirror.base = reinterpret_cast<unsigned char*>(m_records.data());
+            mirror.stride = sizeof(Box);
+            mirror.capacity = int32_t(m_records.size());
+            m_qt.SetBoxMirror(mirror);
+        }
+    }
+
+    // QueueMove, or with fatMoves the Box2D adapter's way (NodeRecords::Move): the test on the kept fat box, and
+    // QueueFatMove when it changed; Validate() then checks that the kept boxes are the quadtree's, bit for bit.
+    void QueueMove(ProxyId id, const Box& tight, Vec2 displacement)
+    {
+        if (!m_settings.fatMoves)
+        {
+            m_qt.QueueMove(id, tight, displacement);
+            return;
+        }
+        Box fat = m_records[size_t(id)];
+        if (RefattenSimd(m_settings.policy, fat, tight, displacement))
+        {
+            m_qt.QueueFatMove(id, tight, fat);
+            m_records[size_t(id)] = fat;
+        }
+        else if (!IsSaneSimd(tight))
+        {
+            m_qt.QueueMove(id, tight, displacement);
+        }
     }
 
     void CheckFat(ProxyId id, const char* call)
@@ -675,6 +715,7 @@ private:
     std::vector<uint8_t> m_buffered; // oracle: created, refattened or touched since the last FindPairs
     std::vector<ProxyId> m_queued;   // ids moved with QueueMove since the last FindPairs (may repeat)
     std::vector<Box> m_tight;
+    std::vector<Box> m_records; // with fatMoves: every fat box, kept beside the quadtree (its mirror)
     std::vector<void*> m_user;
     HarnessTotals m_totals;
     int m_step = -1;

@@ -443,11 +443,18 @@ TEST_CASE("A runaway proxy is reported once, not once per call; a new proxy on i
     std::vector<Pair> pairs;
     for (int step = 0; step < 50; ++step)
     {
-        // what a body with a NaN position gives Box2D's MoveProxy every step, through both entry points
+        // what a body with a NaN position gives Box2D's MoveProxy every step, through every entry point
         const Box bad{kNaN, kNaN, kNaN, kNaN};
-        if (step % 2 == 0)
+        if (step % 3 == 0)
         {
             qt.QueueMove(runaway, bad, Vec2{kNaN, kNaN});
+        }
+        else if (step % 3 == 1)
+        {
+            // the Box2D adapter's way: the test on the fat box it keeps, and the outcome queued
+            Box fat = qt.GetFatBox(runaway);
+            REQUIRE(RefattenSimd(FatPolicy{}, fat, bad, Vec2{kNaN, kNaN}));
+            qt.QueueFatMove(runaway, bad, fat);
         }
         else
         {

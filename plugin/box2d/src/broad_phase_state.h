@@ -2,36 +2,53 @@
 // only stock Box2D's members (see the rules at its top).
 #pragma once
 
+#include <cstring>
 #include <memory>
 #include <vector>
 
 #include "box2d/b2_broad_phase.h"
+#include "broad_phase_observer.h"
+#include "node_records.h"
 #include "quadtree_broad_phase.h"
-#include "shadow_validator.h"
 #include "trace.h"
+#include "stock_members.h"
+#include "stock_tree_mode.h"
 
 namespace quadphase
 {
 namespace detail
 {
 
+/// The quadtree, stock's node records and what watches the calls. b2_broad_phase.cpp forwards each call to the
+/// core and the records, then tells `observers`.
 struct BroadPhaseState
 {
-    explicit BroadPhaseState(const FatPolicy& policy) : core(policy) {}
+    /// With a stock tree (stock-tree mode) in m_tree's storage, or node records in it.
+    BroadPhaseState(const StockMembers& members, bool withStockTree);
 
     QuadtreeBroadPhase core;
-    std::vector<Pair> pairs;                 // UpdatePairs' buffer, kept between calls
-    std::unique_ptr<ShadowValidator> shadow; // validation mode when set
-    Trace* trace = nullptr;                  // records every call when set
-    ValidationReport totalsAdded;            // the part of shadow's report already in the process-wide totals
+    NodeRecords records;
+    std::vector<Pair> pairs; // UpdatePairs' buffer, kept between calls
+    // Told of every call, in this order: stockTree, trace, validation (those that are set).
+    ObserverList observers;
+    std::unique_ptr<StockTreeMode> stockTree;       // QUADPHASE_STOCK_TREE=1; nullptr otherwise
+    std::unique_ptr<BroadPhaseObserver> trace;      // quadphase::SetTrace (trace_observer.h)
+    std::unique_ptr<BroadPhaseObserver> validation; // validation mode (validation_observer.h)
 
-    // QUADPHASE_STOCK_TREE=1: a real b2DynamicTree in b2BroadPhase::m_tree's storage, kept as stock's b2BroadPhase
-    // keeps it (with its move and pair buffers), beside the quadtree, so that stock's inline templates compiled
-    // into a program give stock's answers. The proxy ids b2BroadPhase hands out are then the tree's; the core's
-    // are mapped to and from them. nullptr otherwise.
-    b2DynamicTree* stockTree = nullptr;
-    std::vector<int32> coreOfTree; // tree id -> core id, -1 when none
-    std::vector<int32> treeOfCore; // core id -> tree id, -1 when none
+    /// Whether the ids b2BroadPhase hands out are the core's: always, except in stock-tree mode.
+    bool HandsOutCoreIds() const { return stockTree == nullptr; }
+
+    /// The core's id of an id b2BroadPhase handed out.
+    int32 CoreId(int32 id) const { return stockTree == nullptr ? id : stockTree->CoreId(id); }
+
+    /// The id b2BroadPhase hands out for a live proxy's core id.
+    int32 HandedOutId(ProxyId id) const { return stockTree == nullptr ? id : stockTree->TreeId(id); }
+
+    void SetTrace(Trace* recording);
+    void SetValidation(bool enabled);
+
+private:
+    void ListObservers();
 };
 
 /// b2BroadPhase's m_state (stock's m_moveBuffer) points kStateHeader bytes into a block that starts with the
@@ -39,19 +56,32 @@ struct BroadPhaseState
 /// (stock's inline UpdatePairs reads it), empty otherwise.
 constexpr size_t kStateHeader = 16;
 
+/// The state m_state's block holds. Inline: every b2BroadPhase call starts here.
+inline BroadPhaseState& StateAt(const void* block)
+{
+    BroadPhaseState* state;
+    std::memcpy(&state, static_cast<const unsigned char*>(block) - kStateHeader, sizeof state);
+    return *state;
+}
+
+/// b2BroadPhase's constructor, after it has set m_tree and the counts: the state and m_state's block. Stock's move
+/// and pair buffers (the members from m_state on) are set by the mode: stock's with a stock tree
+/// (QUADPHASE_STOCK_TREE=1 in the environment), empty otherwise. QUADPHASE_VALIDATE=1 validates.
+void NewState(const StockMembers& members);
+
+/// b2BroadPhase's destructor: the state and m_state's block.
+void DeleteState(void* block);
+
+/// A block with the same state and room for `capacity` moves, holding the first `count` of `block`'s, which is
+/// freed (stock's BufferMove growing its buffer).
+void* GrowStateBlock(void* block, int32 count, int32 capacity);
+
 /// The state of `broadPhase`. quadphase's free functions (<quadphase/box2d.h>) cannot name b2BroadPhase's private
 /// members, so they read the opaque pointer from the object's bytes at kStateOffset, which b2BroadPhase's
-/// constructor checks against offsetof at compile time, and the state pointer in the block's header. Stock's
-/// m_moveBuffer follows b2DynamicTree (an int32, a pointer, four int32) and m_proxyCount.
-constexpr size_t kStateOffset = sizeof(void*) == 8 ? 40 : 28;
+/// constructor checks against offsetof at compile time, and the state pointer in the block's header.
+constexpr size_t kStateOffset = 40;
 BroadPhaseState& StateOf(b2BroadPhase& broadPhase);
 const BroadPhaseState& StateOf(const b2BroadPhase& broadPhase);
-
-/// Validation totals of every broadphase of the process, printed to stderr at exit once validation ran:
-/// "quadphase: validation: N UpdatePairs checked, M mismatches". Called when a validator is destroyed, and at
-/// exit for those still alive; with QUADPHASE_VALIDATE_LOG, also appended to that file as they grow
-/// (validation_log.h).
-void AddValidationTotals(const ValidationReport& report);
 
 } // namespace detail
 } // namespace quadphase

@@ -6,6 +6,7 @@
 
 #include "box2d_internal.h"
 #include "broad_phase_state.h"
+#include "validation_observer.h"
 
 namespace quadphase
 {
@@ -85,22 +86,25 @@ const QuadtreeBroadPhase& GetQuadtree(const b2BroadPhase& broadPhase)
     return detail::StateOf(broadPhase).core;
 }
 
-// SetValidation(b2BroadPhase&, bool) is in b2_broad_phase.cpp, beside the validator's other calls.
+void SetValidation(b2BroadPhase& broadPhase, bool enabled)
+{
+    detail::StateOf(broadPhase).SetValidation(enabled);
+}
 
 bool IsValidating(const b2BroadPhase& broadPhase)
 {
-    return detail::StateOf(broadPhase).shadow != nullptr;
+    return detail::StateOf(broadPhase).validation != nullptr;
 }
 
 ValidationReport GetValidationReport(const b2BroadPhase& broadPhase)
 {
     const detail::BroadPhaseState& state = detail::StateOf(broadPhase);
-    return state.shadow ? state.shadow->Report() : ValidationReport{};
+    return state.validation != nullptr ? detail::ValidationReportOf(*state.validation) : ValidationReport{};
 }
 
 void SetTrace(b2BroadPhase& broadPhase, Trace* trace)
 {
-    detail::StateOf(broadPhase).trace = trace;
+    detail::StateOf(broadPhase).SetTrace(trace);
 }
 
 } // namespace quadphase

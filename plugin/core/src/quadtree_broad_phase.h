@@ -24,8 +24,8 @@ namespace quadphase
 /// Exact broadphase over a static quadtree (see Pyramid for the placement rule and why it misses nothing).
 ///
 /// Cost model:
-/// - QueueMove (what the Box2D adapter calls) is O(1) and only records the move; the moves recorded since the
-///   last FindPairs are applied by the next FindPairs, in one batch (see QueueMove).
+/// - QueueMove and QueueFatMove (what the Box2D adapter calls) are O(1) and only record the move; the moves recorded
+///   since the last FindPairs are applied by the next FindPairs, in one batch (see QueueMove).
 /// - MoveProxy is O(1): the fat-box test; when the box changed, the proxy is listed as stale. Its cell entry is
 ///   brought up to date by the next FindPairs, Query or RayCast, for all stale proxies at once, on one thread
 ///   (Pyramid::UpdateBatch): a query after a mass teleport then costs what it costs after a step, and the work is
@@ -69,24 +69,36 @@ public:
     void QueueMove(ProxyId id, const Box& tight, Vec2 displacement)
     {
         // Inline fast path (Box2D calls this once per moving fixture, on one thread); anything unusual (unknown
-        // id, bad box, a second move of the proxy, timing on) takes the out-of-line path.
+        // id, bad box, a second move of the proxy, timing on, a queue of QueueFatMove's) takes the out-of-line path.
         // int operands: & on bools is what is meant (no short-circuit branches), and clang warns otherwise.
         if (__builtin_expect(int(m_pool.IsLiveAndNotPending(id)) & int(IsSaneSimd(tight)) &
                                  int(m_queuedCount < m_fastRoom),
                              1))
         {
-            m_pool.MarkPending(id);
-            // Field by field into the slot: a temporary QueuedMove copied in as a whole was a store-forwarding
-            // stall (two stores read back by one wider load), the largest cost of this call.
-            QueuedMove& slot = m_queued[m_queuedCount];
-            slot.tight = tight;
-            slot.displacement = displacement;
-            slot.id = id;
-            m_hasQueued.store(true, std::memory_order_release);
-            ++m_queuedCount; // when this fills the queue, the next move (QueueMoveSlow) applies or grows it
+            Enqueue(id, tight, displacement);
             return;
         }
-        QueueMoveSlow(id, tight, displacement);
+        QueueMoveSlow(tight, QueuedMove{tight, displacement, id}, false);
+    }
+
+    /// QueueMove for a caller that keeps every proxy's current fat box itself (the boxes of the moves it queued,
+    /// and through the mirror the others) and has run the fat-box test on it (RefattenSimd with this object's
+    /// policy): the Box2D adapter, whose node records stock's inline readers read between calls. Call it only for a move whose fat box changed, with `fat` the test's outcome; a move that
+    /// keeps its fat box changes nothing (QueueMove it anyway when `tight` is bad, so that the box is reported).
+    /// `tight` is checked as QueueMove checks it. Applied as QueueMove's move would be, with `fat` as its outcome:
+    /// the test is not run again and the mirror is not written (the caller has the box already), so a changed fat
+    /// box is computed once and written once. The queue holds one kind of move at a time: a QueueFatMove after a
+    /// QueueMove, or the reverse, applies the queue first (in call order, so the outcome is the same).
+    void QueueFatMove(ProxyId id, const Box& tight, const Box& fat)
+    {
+        if (__builtin_expect(int(m_pool.IsLiveAndNotPending(id)) & int(IsSaneSimd(tight)) &
+                                 int(m_queuedCount < m_fastFatRoom),
+                             1))
+        {
+            Enqueue(id, fat, Vec2{0.0f, 0.0f});
+            return;
+        }
+        QueueMoveSlow(tight, QueuedMove{fat, Vec2{0.0f, 0.0f}, id}, true);
     }
 
     /// Applies the queued moves now (see QueueMove). Calls that read fat boxes do it themselves; this is for
@@ -175,10 +187,22 @@ public:
 private:
     struct QueuedMove
     {
-        Box tight;
+        Box box; // the tight box (QueueMove), or the new fat box (QueueFatMove): the queue's kind says which
         Vec2 displacement;
         ProxyId id;
     };
+    // The inline paths' store. Field by field into the slot: a temporary QueuedMove copied in as a whole was a
+    // store-forwarding stall (two stores read back by one wider load), the largest cost of QueueMove.
+    void Enqueue(ProxyId id, const Box& box, Vec2 displacement)
+    {
+        m_pool.MarkPending(id);
+        QueuedMove& slot = m_queued[m_queuedCount];
+        slot.box = box;
+        slot.displacement = displacement;
+        slot.id = id;
+        m_hasQueued.store(true, std::memory_order_release);
+        ++m_queuedCount; // when this fills the queue, the next move (QueueMoveSlow) applies or grows it
+    }
     // 8192 x 28 bytes (229 KB): a chunk still in the cache of the thread that queued it when it is applied, a
     // dozen applies per step for 100k moving proxies (each has a fixed cost of a few hundred ns), and a bound on
     // memory that does not grow with the world.
@@ -218,7 +242,8 @@ private:
     void NoteStale() { m_hasStale.store(!m_stale.empty(), std::memory_order_release); }
     void CheckBox(const Box& b, const char* call, ProxyId id);
     void FindPairsOfWork(std::vector<Pair>& out, int threads);
-    void QueueMoveSlow(ProxyId id, const Box& tight, Vec2 displacement);
+    // Both kinds of queued move, `fat` saying which; `tight` is the box to check.
+    void QueueMoveSlow(const Box& tight, const QueuedMove& move, bool fat);
     // Applies the queue, in queue order, on the calling thread: fat-box tests, in-cell rewrites, then the stale list
     // and the move buffer. Requires exclusive access.
     // `now`, when given, is the caller's last clock reading (taken as this call's start) and receives its end.
@@ -266,10 +291,19 @@ private:
     // allocates.
     std::vector<QueuedMove> m_queued;
     size_t m_queuedCount = 0;
-    // Slots QueueMove's inline path may fill: the queue's capacity, or 0 while timing is on (timed calls take the
-    // out-of-line path). One comparison on the hot path instead of three.
+    // True while the queue holds QueueFatMove's moves (the kind of the last move queued): one kind at a time keeps
+    // ApplyQueued's loops free of a branch per move.
+    bool m_queueHoldsFat = false;
+    // Slots QueueMove's and QueueFatMove's inline paths may fill: the queue's capacity for the kind it holds, 0 for
+    // the other kind and while timing is on (those calls take the out-of-line path). One comparison on the hot path.
     size_t m_fastRoom = 0;
-    void UpdateFastRoom() { m_fastRoom = m_timing ? 0 : m_queued.size(); }
+    size_t m_fastFatRoom = 0;
+    void UpdateFastRoom()
+    {
+        const size_t room = m_timing ? 0 : m_queued.size();
+        m_fastRoom = m_queueHoldsFat ? 0 : room;
+        m_fastFatRoom = m_queueHoldsFat ? room : 0;
+    }
     // ApplyQueued's scratch, in queue order: the ids it adds to the stale list, and the ids with a new fat box (for
     // the move buffer).
     struct ApplyLists

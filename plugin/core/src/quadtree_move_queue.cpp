@@ -60,19 +60,26 @@ bool QuadtreeBroadPhase::MoveProxy(ProxyId id, const Box& tight, Vec2 displaceme
     return true;
 }
 
-void QuadtreeBroadPhase::QueueMoveSlow(ProxyId id, const Box& tight, Vec2 displacement)
+void QuadtreeBroadPhase::QueueMoveSlow(const Box& tight, const QueuedMove& move, bool fat)
 {
-    if (!m_pool.CheckLive(id, "MoveProxy"))
+    if (!m_pool.CheckLive(move.id, "MoveProxy"))
     {
         return;
     }
-    CheckBox(tight, "MoveProxy", id);
+    CheckBox(tight, "MoveProxy", move.id);
     const Clock::time_point start = m_timing ? Clock::now() : Clock::time_point{};
-    if (!m_pool.MarkPending(id))
+    if (fat != m_queueHoldsFat)
+    {
+        // The other kind: the moves queued so far are applied first, in call order.
+        ApplyQueued();
+        m_queueHoldsFat = fat;
+        UpdateFastRoom();
+    }
+    if (!m_pool.MarkPending(move.id))
     {
         // Moved twice before the queue was applied: the second move must see the first one's fat box.
         ApplyQueued();
-        m_pool.MarkPending(id);
+        m_pool.MarkPending(move.id);
     }
     if (m_queuedCount == m_queued.size())
     {
@@ -89,7 +96,7 @@ void QuadtreeBroadPhase::QueueMoveSlow(ProxyId id, const Box& tight, Vec2 displa
             ApplyQueued();
         }
     }
-    m_queued[m_queuedCount++] = QueuedMove{tight, displacement, id};
+    m_queued[m_queuedCount++] = move;
     m_hasQueued.store(true, std::memory_order_release);
     if (m_timing)
     {
@@ -147,7 +154,7 @@ void QuadtreeBroadPhase::ApplyQueued(Clock::time_point* now)
     // Two passes over the queue:
     // 1. the fat-box tests, without a branch on the outcome (RefattenSimd, and an append that always writes and
     //    advances by the outcome): whether a body keeps its fat box is close to random, and the mispredictions
-    //    cost more than the test;
+    //    cost more than the test. A queue of QueueFatMove's holds the outcomes already: every box is new;
     // 2. each new fat box is written into the proxy's cell entry when it stays in its cell (most do: a fat box is
     //    smaller than a cell); the others are flagged and listed stale and wait for UpdateStaleEntries. Every
     //    proxy with a new fat box is listed for the move buffer.
@@ -157,18 +164,33 @@ void QuadtreeBroadPhase::ApplyQueued(Clock::time_point* now)
     Box* const boxes = m_pool.MutableFatData();
     uint8_t* const state = m_pool.MutableStateData();
     const FatPolicy policy = m_policy;
-    const BoxMirror mirror = m_mirror;
+    // QueueFatMove's caller has its boxes already: only the boxes computed here are copied to the mirror.
+    const BoxMirror mirror = m_queueHoldsFat ? BoxMirror{} : m_mirror;
     std::vector<ProxyId>& buffered = m_applyLists.buffered;
     std::vector<ProxyId>& stale = m_applyLists.stale;
     buffered.resize(size_t(count)); // within the capacity reserved above: no allocation here
     int32_t* const out = buffered.data();
     size_t n = 0;
-    for (int64_t i = 0; i < count; ++i)
+    if (m_queueHoldsFat)
     {
-        const QueuedMove& move = moves[i];
-        state[size_t(move.id)] &= ProxyPool::kClearPendingMask;
-        out[n] = int32_t(i);
-        n += RefattenSimd(policy, boxes[move.id], move.tight, move.displacement) ? 1 : 0;
+        for (int64_t i = 0; i < count; ++i)
+        {
+            const QueuedMove& move = moves[i];
+            state[size_t(move.id)] &= ProxyPool::kClearPendingMask;
+            boxes[move.id] = move.box;
+            out[i] = int32_t(i);
+        }
+        n = size_t(count);
+    }
+    else
+    {
+        for (int64_t i = 0; i < count; ++i)
+        {
+            const QueuedMove& move = moves[i];
+            state[size_t(move.id)] &= ProxyPool::kClearPendingMask;
+            out[n] = int32_t(i);
+            n += RefattenSimd(policy, boxes[move.id], move.box, move.displacement) ? 1 : 0;
+        }
     }
     stale.resize(n);
     int32_t outsideDelta = 0;

@@ -141,7 +141,7 @@ private:
 
     // Stock's private functions, kept so that this library exports every symbol stock's does: a program compiled
     // against stock headers that instantiates stock's inline UpdatePairs references QueryCallback. Nothing here
-    // calls them (see b2_broad_phase.cpp).
+    // calls them (see b2_broad_phase.cpp and stock_tree_mode.cpp).
     void BufferMove(int32 proxyId);
     void UnBufferMove(int32 proxyId);
     bool QueryCallback(int32 proxyId);

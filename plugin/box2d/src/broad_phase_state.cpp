@@ -1,0 +1,108 @@
+// The state behind b2BroadPhase's opaque pointer: its block, its modes and the list of its observers.
+#include "broad_phase_state.h"
+
+#include <cstdlib>
+
+#include "box2d_types.h"
+#include "environment.h"
+#include "trace_observer.h"
+#include "validation_observer.h"
+
+namespace quadphase
+{
+namespace detail
+{
+namespace
+{
+
+void* NewStateBlock(BroadPhaseState* state, int32 capacity)
+{
+    unsigned char* block =
+        static_cast<unsigned char*>(b2Alloc(int32(kStateHeader) + capacity * int32(sizeof(int32))));
+    std::memcpy(block, &state, sizeof state);
+    return block + kStateHeader;
+}
+
+void FreeStateBlock(void* block)
+{
+    b2Free(static_cast<unsigned char*>(block) - kStateHeader);
+}
+
+} // namespace
+
+BroadPhaseState::BroadPhaseState(const StockMembers& members, bool withStockTree)
+    : core(Box2DFatPolicy()), records(withStockTree ? nullptr : &members),
+      stockTree(withStockTree ? new StockTreeMode(members) : nullptr)
+{
+    ListObservers();
+}
+
+void BroadPhaseState::SetTrace(Trace* recording)
+{
+    trace = recording != nullptr ? NewTraceObserver(*recording) : nullptr;
+    ListObservers();
+}
+
+void BroadPhaseState::SetValidation(bool enabled)
+{
+    if (enabled != (validation != nullptr))
+    {
+        validation = enabled ? NewValidationObserver(core) : nullptr;
+        ListObservers();
+    }
+}
+
+void BroadPhaseState::ListObservers()
+{
+    std::vector<BroadPhaseObserver*> list;
+    for (BroadPhaseObserver* observer :
+         {static_cast<BroadPhaseObserver*>(stockTree.get()), trace.get(), validation.get()})
+    {
+        if (observer != nullptr)
+        {
+            list.push_back(observer);
+        }
+    }
+    observers.Assign(std::move(list));
+}
+
+void NewState(const StockMembers& members)
+{
+    *members.moveCapacity = *members.moveCount = *members.pairCapacity = *members.pairCount = 0;
+    *members.pairBuffer = nullptr; // stock-tree mode's constructor gives stock's buffers
+    std::unique_ptr<BroadPhaseState> state(
+        new BroadPhaseState(members, EnvironmentFlag("QUADPHASE_STOCK_TREE")));
+    state->SetValidation(EnvironmentFlag("QUADPHASE_VALIDATE"));
+    *members.state = NewStateBlock(state.release(), *members.moveCapacity);
+}
+
+void DeleteState(void* block)
+{
+    delete &StateAt(block);
+    FreeStateBlock(block);
+}
+
+void* GrowStateBlock(void* block, int32 count, int32 capacity)
+{
+    void* grown = NewStateBlock(&StateAt(block), capacity);
+    std::memcpy(grown, block, size_t(count) * sizeof(int32));
+    FreeStateBlock(block);
+    return grown;
+}
+
+BroadPhaseState& StateOf(b2BroadPhase& broadPhase)
+{
+    void* block;
+    std::memcpy(&block, reinterpret_cast<unsigned char*>(&broadPhase) + kStateOffset, sizeof block);
+    return StateAt(block);
+}
+
+const BroadPhaseState& StateOf(const b2BroadPhase& broadPhase)
+{
+    void* block;
+    std::memcpy(&block, reinterpret_cast<const unsigned char*>(&broadPhase) + kStateOffset, sizeof block);
+    return StateAt(block);
+}
+
+} // namespace detail
+} // namespace quadphase
