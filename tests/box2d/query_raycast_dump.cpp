@@ -1336,15 +1336,17 @@ bool RunCase(const Case& c, bool validate, bool grid, Out& out)
         name, c.size, unsigned(c.seed), int(names.All().size()), int(contacts), counts.nonEmptyQueries,
         int(queries.size()), counts.queryResults, counts.hitRays, int(rays.size()), counts.rayHits, seconds);
 
-    // Not trivially empty: a good part of the boxes and rays must find something, and not everything.
-    if (counts.nonEmptyQueries < int(queries.size()) / 3 || counts.nonEmptyQueries == int(queries.size()))
+    // Not trivially empty: a good part of the boxes and rays must find something, and not everything. A quarter,
+    // not a third: the worlds are stepped, so where bodies end up differs between targets (fused multiply-adds on
+    // ARM64), and mixed/1000/11's rays hit 103 of 300 on x86-64 but 95 on ARM64.
+    if (counts.nonEmptyQueries < int(queries.size()) / 4 || counts.nonEmptyQueries == int(queries.size()))
     {
-        Fail("%s: %d of %d boxes found something (want at least a third, and not all)", label,
+        Fail("%s: %d of %d boxes found something (want at least a quarter, and not all)", label,
              counts.nonEmptyQueries, int(queries.size()));
     }
-    if (counts.hitRays < int(rays.size()) / 3 || counts.hitRays == int(rays.size()))
+    if (counts.hitRays < int(rays.size()) / 4 || counts.hitRays == int(rays.size()))
     {
-        Fail("%s: %d of %d rays hit something (want at least a third, and not all)", label, counts.hitRays,
+        Fail("%s: %d of %d rays hit something (want at least a quarter, and not all)", label, counts.hitRays,
              int(rays.size()));
     }
     if (contacts == 0 || p.farPoints.empty())
