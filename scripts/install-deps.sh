@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Install the Debian/Ubuntu packages a command of this repository needs, and nothing else.
 #
-#   scripts/install-deps.sh                       # every purpose but real-game and deb-check: what CI (.ci/run) and the
-#                                                 # scripts in scripts/ and bench/ use together
+#   scripts/install-deps.sh                       # every purpose but real-game, deb-check, no-openmp and web: what CI
+#                                                 # (.ci/run) and the scripts in scripts/ and bench/ use together
 #   scripts/install-deps.sh --for test            # one purpose (repeat --for for several)
 #   scripts/install-deps.sh --for bench python3-matplotlib   # extra package names are installed too
 #   scripts/install-deps.sh --list [--for PURPOSE]           # print the packages, install nothing
@@ -16,6 +16,9 @@
 #   testbed      scripts/testbed-screenshot.sh: + X11/GL dev packages for Box2D's testbed, Xvfb, Mesa, xdotool, ffmpeg
 #   bench        bench/*.sh, scripts/soak.sh: + Chipmunk2D, Bullet, python3
 #   race         scripts/race-check.sh: + clang-14 with LLVM's libomp and archer
+#   no-openmp    scripts/test-no-openmp.sh: + clang-14 and LLVM's libc++ (Apple's toolchain without OpenMP), ffmpeg
+#                and abigail-tools as test
+#   web          scripts/test-web.sh: + Emscripten and Node.js (the tests run under node)
 #   sanitize     scripts/sanitize.sh: + ffmpeg and abigail-tools, as test (the same suite under GCC's sanitizers)
 #   fuzz         scripts/fuzz.sh: + clang-14's libFuzzer and sanitizer runtimes, libomp
 #   real-game    scripts/real-game.sh: + CaveExpress's build dependencies, Debian's caveexpress package, Xvfb,
@@ -54,6 +57,8 @@ packages_for() {
             ;;
         bench) echo libchipmunk-dev libbullet-dev python3 ;;  # replay comparison; the drivers are Python
         race) echo "${clang_omp[@]}" ;;
+        no-openmp) echo clang-14 libc++-14-dev libc++abi-14-dev ffmpeg abigail-tools ;;
+        web) echo emscripten nodejs ;;
         fuzz) echo "${clang_omp[@]}" libclang-rt-14-dev ;;
         real-game)
             # CaveExpress 2.5.2's build dependencies as Debian's source package lists them (caveexpress_2.5.2-1.dsc),
@@ -83,7 +88,7 @@ while [[ $# -gt 0 ]]; do
         --for)
             [[ $# -ge 2 ]] || { echo "install-deps: --for needs a purpose" >&2; exit 2; }
             packages_for "$2" >/dev/null || {
-                echo "install-deps: unknown purpose '$2' (one of: ${all_purposes[*]} real-game deb-check)" >&2
+                echo "install-deps: unknown purpose '$2' (one of: ${all_purposes[*]} real-game deb-check no-openmp web)" >&2
                 exit 2
             }
             purposes+=("$2")

@@ -21,6 +21,11 @@ if(MODE STREQUAL "exports")
         set(names "")
         set(weak "")
         foreach(line IN LISTS lines)
+            # The linker's own markers of the data segment's end: it exports them from a library when one the
+            # library links exports them (libc++.so.1 does), and no program refers to another object's.
+            if(line MATCHES " (__bss_start|_edata|_end)$")
+                continue()
+            endif()
             if(line MATCHES " ([A-Za-z]) ([^ ]+)$")
                 set(type "${CMAKE_MATCH_1}")
                 set(name "${CMAKE_MATCH_2}")

@@ -479,7 +479,7 @@ TEST_CASE("Queries after a mass teleport bring the entries up to date once inste
     REQUIRE(a == b);
 }
 
-TEST_CASE("GetStats beside concurrent const calls that apply queued moves", "[parallel][stats]")
+TEST_CASE("GetStats beside concurrent const calls that apply queued moves", "[parallel][stats][concurrent]")
 {
     // Run under ThreadSanitizer by scripts/race-check.sh ("[parallel]"): GetStats takes the lock under which
     // a concurrent Query applies the queue, so neither reads what the other writes.

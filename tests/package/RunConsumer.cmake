@@ -10,6 +10,9 @@
 #   CONFIG               build configuration (default Release)
 #   BOX2D_SRC            Box2D source root to reuse (add_subdirectory mode)
 #   GENERATOR, CXX_COMPILER, CXX_FLAGS_RELEASE, JOBS
+#   CXX_FLAGS, EXE_LINKER_FLAGS  the build's own (e.g. -stdlib=libc++): the consumers are compiled with them too
+#   OPENMP, OPENMP_PC_LIBS       QUADPHASE_OPENMP and the OpenMP runtime it gives box2d.pc's Libs.private
+#                                (find_package: the installed libbox2d.so needs an OpenMP runtime exactly when ON)
 
 cmake_minimum_required(VERSION 3.20)
 
@@ -55,6 +58,13 @@ endif()
 if(DEFINED CXX_FLAGS_RELEASE)
     list(APPEND configure_args "-DCMAKE_CXX_FLAGS_RELEASE=${CXX_FLAGS_RELEASE}")
 endif()
+if(CXX_FLAGS)
+    list(APPEND configure_args "-DCMAKE_CXX_FLAGS=${CXX_FLAGS}")
+endif()
+if(EXE_LINKER_FLAGS)
+    list(APPEND configure_args "-DCMAKE_EXE_LINKER_FLAGS=${EXE_LINKER_FLAGS}")
+endif()
+separate_arguments(cxx_flags UNIX_COMMAND "${CXX_FLAGS} ${EXE_LINKER_FLAGS}")
 
 if(MODE STREQUAL "find_package")
     set(prefix "${WORK_DIR}/prefix")
@@ -77,6 +87,29 @@ if(MODE STREQUAL "find_package")
     if(NOT ours STREQUAL expected)
         message(FATAL_ERROR "[${MODE}] installed include/box2d/b2_broad_phase.h "
                             "is not plugin/box2d/include/box2d/b2_broad_phase.h")
+    endif()
+    # An OpenMP runtime among the shared library's DT_NEEDED entries exactly when it was built with OpenMP, and in
+    # box2d.pc's Libs.private for static consumers.
+    if(DEFINED OPENMP)
+        find_program(READELF NAMES readelf llvm-readelf REQUIRED)
+        execute_process(COMMAND "${READELF}" -d "${prefix}/lib/libbox2d.so.2.4.1"
+            OUTPUT_VARIABLE dynamic RESULT_VARIABLE rc)
+        if(NOT rc EQUAL 0)
+            message(FATAL_ERROR "[${MODE}] readelf -d failed on the installed libbox2d.so.2.4.1")
+        endif()
+        string(REGEX MATCH "\\(NEEDED\\)[^\n]*lib(gomp|omp|iomp5)\\.so[.0-9]*" needs_omp "${dynamic}")
+        file(STRINGS "${prefix}/lib/pkgconfig/box2d.pc" libs_private REGEX "^Libs.private:")
+        string(REGEX REPLACE "^Libs.private: *" "" libs_private "${libs_private}")
+        if(OPENMP AND NOT needs_omp)
+            message(FATAL_ERROR "[${MODE}] built with OpenMP, but libbox2d.so.2.4.1 needs no OpenMP runtime:\n${dynamic}")
+        elseif(NOT OPENMP AND needs_omp)
+            message(FATAL_ERROR "[${MODE}] built without OpenMP, but libbox2d.so.2.4.1 needs one: ${needs_omp}")
+        endif()
+        if(NOT libs_private STREQUAL "${OPENMP_PC_LIBS}")
+            message(FATAL_ERROR "[${MODE}] box2d.pc's Libs.private is '${libs_private}', expected '${OPENMP_PC_LIBS}'")
+        endif()
+        message(STATUS "[${MODE}] OpenMP ${OPENMP}: libbox2d.so.2.4.1 needs '${needs_omp}', box2d.pc's "
+                       "Libs.private '${libs_private}'")
     endif()
     # The stock component: the same Box2D names for stock Box2D, in its own prefix.
     set(stock_prefix "${WORK_DIR}/prefix-stock")
@@ -143,8 +176,8 @@ if(MODE STREQUAL "find_package")
                 list(APPEND flags -rdynamic) # so that the consumer's dlsym sees what the archive brought in
             endif()
             set(exe "${WORK_DIR}/pkgconfig_${flavour}_${linkage}")
-            run("pkg-config ${flavour} ${linkage}" COMMAND "${CXX_COMPILER}" -std=c++11 -Wall -Wextra -Wpedantic
-                -Werror -DQUADPHASE_VARIANT_BOX2D_PACKAGE=1 "-DEXPECT_LIBRARY=\"${flavour}\""
+            run("pkg-config ${flavour} ${linkage}" COMMAND "${CXX_COMPILER}" ${cxx_flags} -std=c++11 -Wall -Wextra
+                -Wpedantic -Werror -DQUADPHASE_VARIANT_BOX2D_PACKAGE=1 "-DEXPECT_LIBRARY=\"${flavour}\""
                 "${CONSUMER_DIR}/../common/consumer.cpp" ${flags} -ldl -o "${exe}")
             run("run pkg-config ${flavour} ${linkage}" COMMAND "${CMAKE_COMMAND}" -E env "LD_LIBRARY_PATH=${p}/lib"
                 "${exe}")
