@@ -70,7 +70,8 @@ def machine_info(out):
     info.update(cpu=run.get("cpu", "?"), cores=int(run.get("cores", 0)), kernel=run.get("kernel", "?"),
                 loadavg_start=run.get("loadavg_start", "").split(), loadavg_end=run.get("loadavg_end", "").split(),
                 omp_env=dict(kv.split("=", 1) for kv in run.get("omp_env", "").split() if "=" in kv),
-                default_config=run.get("default_config", ""))
+                default_config=run.get("default_config", ""),
+                quiet_samples=[float(v) for k, v in run.items() if k.startswith("busy_before_")])
     return info, run
 
 
@@ -154,6 +155,9 @@ def projection_section(cases, counts):
         rows.append([c["name"], fmt(r["share"]), fmt(r["ef"]), fmt(s)] + [fmt(amdahl(s, q), 1) for q in (4, 8, 16)]
                     + [fmt(s2), fmt(amdahl(s2, 16), 1)])
     L = ["## Projection to 16 cores from the measured serial fractions", "", TEXT["projection"].format(p=p), ""]
+    slower = [c["name"] for c in cases if (speedups(c, "find").get(p) or 0) < 1.0]
+    if slower:
+        L += [TEXT["projection_void"].format(p=p, traces=", ".join(slower)), ""]
     L += table(["trace", "m (outside share, 1 thread)", f"e_F (FindPairs, {p} threads)", "s", "projected 4 threads",
                 "8", "16", "s if the outside work were parallel", "then 16"], rows) + [""]
     return L, fits

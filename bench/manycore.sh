@@ -96,6 +96,17 @@ prepare() {
         "writes the report" >&2
 }
 
+cpus_busy() { # CORES: how many CPUs were in use over the next second (by anything), from /proc/stat, as "1.23"
+    local u n s i w q sq st t i2 t2 x
+    read -r _ u n s i w q sq st _ </proc/stat
+    t=$((u + n + s + i + w + q + sq + st)) i2=$((i + w))
+    sleep 1
+    read -r _ u n s i w q sq st _ </proc/stat
+    t2=$((u + n + s + i + w + q + sq + st - t)) i2=$((i + w - i2))
+    x=$(($1 * 100 * (t2 - i2) / (t2 > 0 ? t2 : 1)))
+    printf '%d.%02d\n' $((x / 100)) $((x % 100))
+}
+
 now() { # seconds since the epoch (bash 5 has them built in)
     echo "${EPOCHSECONDS:-$(date +%s)}"
 }
@@ -171,11 +182,13 @@ measure() {
 
     local t0 part_start
     t0=$(now)
-    part() { # KEY WHAT: a part starts; the previous one's seconds go to timing.txt
+    part() { # KEY WHAT: a part starts; the previous one's seconds go to timing.txt, how busy the machine is now (the
+        # other processes: nothing of the run's is running) to machine.txt
         [[ -n ${part_key:-} ]] && echo "$part_key $(($(now) - part_start))" >>"$out/timing.txt"
+        [[ -n $1 ]] || return 0
+        echo "busy_before_$1 $(cpus_busy "$cores")" >>"$out/machine.txt"
         part_key=$1 part_start=$(now)
-        [[ -n $1 ]] && echo "manycore: [$(($(now) - t0)) s] $2" >&2
-        return 0
+        echo "manycore: [$(($(now) - t0)) s] $2" >&2
     }
     tool() { # TOOL ARG...: runs a tool of the folder; its output goes to run.log
         echo "\$ $*" >>"$log"
