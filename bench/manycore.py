@@ -114,7 +114,8 @@ def replay_section(cases, counts, mismatch):
     rows = []
     for c in cases:
         label = f"{c['name']} ({c['warmup']} + {c['steps']} steps)"
-        for k, (what, name) in enumerate((("whole", "ms/step"), ("find", "FindPairs"), ("outside", "outside FindPairs"))):
+        for k, (what, name) in enumerate((("whole", "ms/step"), ("find", "FindPairs"),
+                                          ("outside", "outside FindPairs"))):
             s = speedups(c, what)
             rows.append([label if k == 0 else "", name] + [fmt(c["ms"][t][what]) if t in c["ms"] else "–"
                                                            for t in counts]
@@ -124,8 +125,9 @@ def replay_section(cases, counts, mismatch):
             fmt(karp_flatt(sw.get(t), t)) if t > 1 and t in c["ms"] else "–" for t in counts] + [""])
     L += table(["trace", ""] + [f"{t} thread{'s' if t > 1 else ''}" for t in counts] + [f"{p} ÷ 1"], rows) + [""]
     L.append("Stock `b2BroadPhase` on the same traces: " + ", ".join(
-        f"{c['name']} {fmt(c['stock'])} ms/step (stock ÷ quadphase at 1 thread {fmt(ratio(c['stock'], c['ms'][1]['whole']))}×, "
-        f"at {p} threads {fmt(ratio(c['stock'], c['ms'][p]['whole']))}×)" for c in cases) + ".")
+        f"{c['name']} {fmt(c['stock'])} ms/step (stock ÷ quadphase at 1 thread "
+        f"{fmt(ratio(c['stock'], c['ms'][1]['whole']))}×, at {p} threads "
+        f"{fmt(ratio(c['stock'], c['ms'][p]['whole']))}×)" for c in cases) + ".")
     checked = ", ".join(f"{c['name']} at {' and '.join(str(t) for t in sorted(c['checks']))} threads "
                         + ("identical" if all(c["checks"].values()) else "**DIFFERENT**") for c in cases)
     L += ["", f"Pair sets of every `UpdatePairs` call against stock's (`--check all`): {checked}."
@@ -134,15 +136,17 @@ def replay_section(cases, counts, mismatch):
     for c in cases:
         sw, sf = speedups(c, "whole"), speedups(c, "find")
         rising = all((c["ms"][b]["whole"] <= c["ms"][a]["whole"]) for a, b in zip(counts, counts[1:]))
-        goal.append(f"{c['name']}: whole {fmt(sw.get(p))}× (≥{GOALS['whole']:g}){TICK[(sw.get(p) or 0) >= GOALS['whole']]}"
-                    f", FindPairs {fmt(sf.get(p))}× (≥{GOALS['find']:g}){TICK[(sf.get(p) or 0) >= GOALS['find']]}, "
+        goal.append(f"{c['name']}: whole {fmt(sw.get(p))}× (≥{GOALS['whole']:g})"
+                    f"{TICK[(sw.get(p) or 0) >= GOALS['whole']]}, FindPairs {fmt(sf.get(p))}× "
+                    f"(≥{GOALS['find']:g}){TICK[(sf.get(p) or 0) >= GOALS['find']]}, "
                     f"every thread count at least as fast as the one below{TICK[rising]}")
     L += [f"Goals at {p} threads{'' if p >= 16 else ' (they are set for 16)'}: " + "; ".join(goal) + ".", ""]
     return L
 
 
 def projection_section(cases, counts):
-    """Amdahl from the serial fractions measured at the most threads (when they are fewer than 16)."""
+    """Amdahl from the serial fractions measured at the most threads (when they are fewer than 16): the section's
+    lines, and (trace, s, s if the outside work were parallel) of the traces the plot projects."""
     p = counts[-1]
     if p >= 16 or p < 2:
         return [], []
@@ -151,7 +155,8 @@ def projection_section(cases, counts):
         one = c["ms"][1]
         r = dict(share=one["outside"] / one["whole"], ef=karp_flatt(speedups(c, "find").get(p), p))
         s, s2 = serial_fractions(r)
-        fits.append((c["name"], s, s2))
+        if (speedups(c, "find").get(p) or 0) >= 1.0:  # else there is nothing to project (see projection_void)
+            fits.append((c["name"], s, s2))
         rows.append([c["name"], fmt(r["share"]), fmt(r["ef"]), fmt(s)] + [fmt(amdahl(s, q), 1) for q in (4, 8, 16)]
                     + [fmt(s2), fmt(amdahl(s2, 16), 1)])
     L = ["## Projection to 16 cores from the measured serial fractions", "", TEXT["projection"].format(p=p), ""]
@@ -207,7 +212,8 @@ def frames_section(rows, run):
         worst_ok = d.get("bp_max", 1e9) <= a.get("bp_max", 0)
         ok = [(total or 0) >= 1.0, cpu_ok, worst_ok]
         misses += [f"{s} {n}{' busy' if b else ''}"] if not all(ok) else []
-        goal_rows.append([f"{s} {n:,}", "yes" if b else "no", f"{fmt(total)}{TICK[ok[0]]}", f"{fmt(cpu_x)}{TICK[cpu_ok]}",
+        goal_rows.append([f"{s} {n:,}", "yes" if b else "no", f"{fmt(total)}{TICK[ok[0]]}",
+                          f"{fmt(cpu_x)}{TICK[cpu_ok]}",
                           f"{fmt(d.get('bp_max'), 3)} / {fmt(a.get('bp_max'), 3)}{TICK[worst_ok]}"])
     L += ["**The defaults' goals**", ""] + table(
         ["scene", "busy", "bp total: 1 thread ÷ defaults (≥1)", f"CPU: defaults ÷ 1 thread (≤{frames.CPU_GOAL})",

@@ -98,8 +98,8 @@ def run_frames(args):
 def frame_rows(results):
     """qp-step's frames runs (label "frames|ENGINE|round=R") grouped by (scene, size, busy, engine), and one row per
     group: medians over the rounds of the per-step statistics (bp_*, step_*) and, where the runs measured it, of
-    the process's CPU seconds over the timed steps (cpu_s) and their wall time (wall_s); each engine's best round, the goals' figure (bp_max_best,
-    bp_total_best, cpu_s_best)."""
+    the process's CPU seconds over the timed steps (cpu_s) and their wall time (wall_s); each engine's best round,
+    the goals' figure (bp_max_best, bp_total_best, cpu_s_best)."""
     groups = {}
     for r in results:
         groups.setdefault((r["scene"], r["size"], r["busy"], r["label"].split("|")[1]), []).append(r)
