@@ -15,7 +15,7 @@ One machine, one run, one Box2D source and set of flags per optimisation level (
   circles  the paper's protocol: the most circles under 20 ms per frame (qp-circles).
 --frames runs only the frames section: every in-engine scene from its first step as a game runs it,
 stock and quadphase (1 and 2 threads, its defaults, a job system), each also beside a busy thread; per-step
-b2Profile broadphase and step p50/p99/max/total -> bench/results/frames.{md,csv,png}.
+b2Profile broadphase and step p50/p99/max/total and the process's CPU time -> bench/results/frames.{md,csv,png}.
 The first level runs every part; further levels run step, phases and the replay's headline engines. Writes
 bench/results/{step,phases,replay,replay_phases,peers,queries,circles}.csv, bench.json, the PNG plots and bench/RESULTS.md.
 See bench/README.md for what each number means.

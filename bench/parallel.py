@@ -16,7 +16,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 from qpbench import paper, plot, report, run  # noqa: E402
 from qpbench.report import fixed as fmt, table  # noqa: E402
-from qpbench.stats import amdahl, karp_flatt, round_ratios  # noqa: E402
+from qpbench.stats import amdahl, karp_flatt, round_ratios, serial_fractions  # noqa: E402
 from quadphase_tools import machine, stats  # noqa: E402
 
 THRESHOLDS = [0, 64, 128, 256, 512, 1024, 4096]
@@ -603,13 +603,6 @@ def analysis_c(res, sweeps, smalls, thresholds, per_call):
         out.append(f"- {smalls[0]['size']}-body scenes at the default threshold: 2 threads take at most "
                    f"{fmt(worst, 3)}× the 1-thread time; {regions} parallel regions opened.")
     return "\n".join(out) + "\n"
-
-
-def serial_fractions(r):
-    """(s as measured, s if the outside work were parallel) from m and FindPairs' Karp-Flatt fraction."""
-    m = min(max(r["share"], 0.0), 1.0)
-    ef = min(max(r["ef"], 0.0), 1.0) if not math.isnan(r["ef"]) else 0.0
-    return m + ef * (1.0 - m), ef * (1.0 - m)
 
 
 def analysis_e(rows):

@@ -9,8 +9,8 @@
 #   bench/run.sh --full          # full profile, -O2 and -O3 (--opt both unless --opt says otherwise): about 90 minutes
 #   bench/run.sh --opt both      # -O2 (Debian's level) and -O3 (Box2D's CMake Release): a stock and a quadphase
 #                                # build each, same source, same flags; in-engine and replay headline at both
-#   bench/run.sh --frames        # only the frames section (--full runs it too): p50/p99/max/total, busy, job
-#                                # system; about 18 minutes: bench/results/frames.{md,csv,png}
+#   bench/run.sh --frames        # only the frames section (--full runs it too): p50/p99/max/total, CPU time,
+#                                # busy, job system; about 18 minutes: bench/results/frames.{md,csv,png}
 #   bench/run.sh --help          # every option of bench.py (parts, rounds, scale, output paths)
 #
 # Environment: QUADPHASE_SKIP_DEPS=1, BUILD_DIR (default build-bench; -O3 builds go to BUILD_DIR-O3), JOBS,

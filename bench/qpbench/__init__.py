@@ -2,7 +2,7 @@
 accuracy/accuracy.py -> docs/accuracy.md).
 
   run      the scripts' command line, trace recording, rounds in random order, progress
-  stats    per-round ratios, Karp-Flatt and Amdahl
+  stats    per-round ratios, Karp-Flatt, serial fractions and Amdahl
   report   number formats, markdown tables, CSV/JSON writing, the machine section of a report, the reports' prose
            (bench/prose: fixed paragraphs with fields to fill in)
   plot     matplotlib (Agg) through /usr/bin/python3, or a note when it is missing

@@ -1,7 +1,7 @@
 """bench.py's frames section (--frames, and --full after the rest): every in-engine scene from its first step as a
 game runs it, stock and quadphase (1 and 2 threads, its defaults, a job system), each also beside a busy thread;
-per-step b2Profile broadphase and step p50/p99/max/total -> results/frames.{md,csv,png}. RESULTS.md quotes the goals
-table run_frames returns."""
+per-step b2Profile broadphase and step p50/p99/max/total and the process's CPU time -> results/frames.{md,csv,png}.
+RESULTS.md quotes the goals table run_frames returns; manycore.py reuses frame_rows and cpu_goal."""
 
 import os
 import time
@@ -24,6 +24,7 @@ FRAME_PLOTS = [("pyramid", 10), ("tumbler", 400), ("rain", 4000)]
 FRAME_STATS = ("p50", "p99", "max", "total")
 FRAME_TOOLS = ("qp-step-stock", "qp-step-quadtree")
 TICK = {True: " ✓", False: " **✗**"}
+CPU_GOAL = 1.3  # the process's CPU time at most this many times the 1-thread quadtree's
 
 
 def run_frames(args):
@@ -50,16 +51,10 @@ def run_frames(args):
         info.update(minutes=(time.time() - info.pop("t0")) / 60, rounds=args.rounds, steps=args.frame_steps,
                     quiet_samples=runner.quiet_samples, loadavg_end=open("/proc/loadavg").read().split()[:3])
         report.write_json(runner.jsonl + ".json", info)
-    groups = {}
-    for r in runner.results():
-        groups.setdefault((r["scene"], r["size"], r["busy"], r["label"].split("|")[1]), []).append(r)
-    # Per-step table: medians over rounds. Goals: each engine's best round (bp_*_best), see the prose.
-    rows = [dict(scene=s, size=n, busy=b, engine=e, rounds=len(rs), proxies=rs[0]["proxies"], **{
-        f"{m}_{st}": med([r[f"{f}_ms_{st}"] for r in rs]) for m, f in (("bp", "broadphase"), ("step", "step"))
-        for st in FRAME_STATS}, **{f"bp_{st}_best": min(r[f"broadphase_ms_{st}"] for r in rs) for st in ("max", "total")})
-        for (s, n, b, e), rs in sorted(groups.items())]
+    groups, rows = frame_rows(runner.results())
     report.write_csv(os.path.join(args.results, "frames.csv"), rows)
     by = {(r["scene"], r["size"], r["busy"], r["engine"]): r for r in rows}
+    cpu = any("cpu_s" in r for r in rows)  # the CPU columns: runs of a qp-step that measures the process's CPU time
     head, misses = [], set()
     for s, n, b in sorted({k[:3] for k in by}):
         a, one = (by.get((s, n, b, e)) or {} for e in ("stock", "1 thread"))
@@ -69,25 +64,59 @@ def run_frames(args):
             total = [ratio(x.get("bp_total_best"), q.get("bp_total_best")) for x in (a, one)]
             ok = [(total[0] or 0) >= 1.0, (total[1] or 0) >= 0.95,
                   q.get("bp_max_best", 1e9) <= 1.5 * a.get("bp_max_best", 0) + 0.5]
-            misses.update(f"{s} {n}{' busy' if b else ''} ({e})" for o in ok if not o)
             cells += [f"{fmt(total[0])}{TICK[ok[0]]}", f"{fmt(total[1])}{TICK[ok[1]]}",
                       f"{fmt(q.get('bp_max_best'), 3)} / {fmt(a.get('bp_max_best'), 3)}{TICK[ok[2]]}"]
+            if cpu:
+                cpu_x, cpu_ok = cpu_goal(q, one)
+                ok.append(cpu_ok)
+                cells.append(f"{fmt(cpu_x)}{TICK[cpu_ok]}")
+            misses.update(f"{s} {n}{' busy' if b else ''} ({e})" for o in ok if not o)
         head.append(cells)
     L = ["# Frames: per-step broadphase and step, as a game runs the library", "",
          TEXT["frames"].format(steps=info.get("steps"), rounds=info.get("rounds"), minutes=info.get("minutes", 0)), ""]
+    if cpu:
+        L += [TEXT["frames_cpu"].format(goal=CPU_GOAL), ""]
     if frames_plot(args, groups):
         L += ["![ms per step over the run, stock against quadphase's defaults](frames.png)", ""]
+    cpu_head = lambda e: [f"CPU s: {e} ÷ 1 thread (≤{CPU_GOAL})"] if cpu else []  # noqa: E731
     goals = ["## Goals", ""] + table(
         ["scene", "busy", "proxies at the end", "bp total stock ÷ defaults (≥1)", "1 thread ÷ defaults (≥0.95)",
-         "worst bp step ms: defaults / stock (≤1.5×+0.5)", "stock ÷ job system", "1 thread ÷ job system",
-         "worst: job system / stock"], head) + ["", "Misses: " + (", ".join(sorted(misses)) or "none") + "."]
+         "worst bp step ms: defaults / stock (≤1.5×+0.5)", *cpu_head("defaults"), "stock ÷ job system",
+         "1 thread ÷ job system", "worst: job system / stock", *cpu_head("job system")], head) \
+        + ["", "Misses: " + (", ".join(sorted(misses)) or "none") + "."]
     L += goals + ["", "## Per step, ms", ""]
-    L += table(["scene", "busy", "engine"] + [f"{m} {st}" for m in ("bp", "step") for st in FRAME_STATS], [
+    L += table(["scene", "busy", "engine"] + [f"{m} {st}" for m in ("bp", "step") for st in FRAME_STATS]
+               + (["CPU s"] if cpu else []), [
         [f"{r['scene']} {r['size']}", "yes" if r["busy"] else "no", r["engine"]]
-        + [fmt(r[f"{m}_{st}"], 3) for m in ("bp", "step") for st in FRAME_STATS] for r in rows])
+        + [fmt(r[f"{m}_{st}"], 3) for m in ("bp", "step") for st in FRAME_STATS]
+        + ([fmt(r.get("cpu_s"), 3)] if cpu else []) for r in rows])
     report.write_lines(os.path.join(args.results, "frames.md"), L + [""] + report.machine_section(info))
     print(f"bench.py: wrote {args.results}/frames.md, frames.csv", flush=True)
     return goals
+
+
+def frame_rows(results):
+    """qp-step's frames runs (label "frames|ENGINE|round=R") grouped by (scene, size, busy, engine), and one row per
+    group: medians over the rounds of the per-step statistics (bp_*, step_*) and, where the runs measured it, of
+    the process's CPU seconds over the timed steps (cpu_s) and their wall time (wall_s); each engine's best round,
+    the goals' figure (bp_max_best, bp_total_best, cpu_s_best)."""
+    groups = {}
+    for r in results:
+        groups.setdefault((r["scene"], r["size"], r["busy"], r["label"].split("|")[1]), []).append(r)
+    rows = [dict(scene=s, size=n, busy=b, engine=e, rounds=len(rs), proxies=rs[0]["proxies"], **{
+        f"{m}_{st}": med([r[f"{f}_ms_{st}"] for r in rs]) for m, f in (("bp", "broadphase"), ("step", "step"))
+        for st in FRAME_STATS}, **{f"bp_{st}_best": min(r[f"broadphase_ms_{st}"] for r in rs) for st in ("max", "total")},
+        **({"cpu_s": med([r["cpu_s"] for r in rs]), "cpu_s_best": min(r["cpu_s"] for r in rs),
+            "wall_s": med([r["wall_s"] for r in rs])} if all("cpu_s" in r for r in rs) else {}))
+        for (s, n, b, e), rs in sorted(groups.items())]
+    return groups, rows
+
+
+def cpu_goal(engine, one_thread):
+    """The CPU goal on two rows of frame_rows: (the engine's CPU seconds ÷ the 1-thread quadtree's, best rounds;
+    whether that is at most CPU_GOAL)."""
+    x = ratio(engine.get("cpu_s_best"), one_thread.get("cpu_s_best"))
+    return x, x is not None and x <= CPU_GOAL
 
 
 def frames_plot(args, groups):

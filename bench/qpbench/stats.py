@@ -17,6 +17,15 @@ def karp_flatt(speedup, p=2):
     return (1.0 / speedup - 1.0 / p) / (1.0 - 1.0 / p)
 
 
+def serial_fractions(r):
+    """(s as measured, s if the outside work were parallel) of a trace's replay, from r["share"] (m: the work
+    outside FindPairs over the whole, at 1 thread) and r["ef"] (e_F: FindPairs' Karp-Flatt fraction):
+    s = m + e_F (1 - m)."""
+    m = min(max(r["share"], 0.0), 1.0)
+    ef = min(max(r["ef"], 0.0), 1.0) if not math.isnan(r["ef"]) else 0.0
+    return m + ef * (1.0 - m), ef * (1.0 - m)
+
+
 def amdahl(s, p):
     s = min(max(s, 0.0), 1.0)
     return 1.0 / (s + (1.0 - s) / p)

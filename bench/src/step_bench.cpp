@@ -24,10 +24,12 @@
 // quadtree build's --validate checks every UpdatePairs against a shadow b2DynamicTree (exit status 1 on a
 // mismatch) and --timing also times proxy updates; the side-by-side demo (scripts/demo.sh) uses both.
 // --busy runs a second thread that spins from the warm-up to the last timed step, as a game's renderer
-// would beside its physics thread. --jobs N (quadtree build) hands pair generation to a job system of N
-// workers (quadphase_jobs/job_system.h: a std::thread pool) through quadphase::SetTaskSystem, as a game with
-// its own job system would; --threads still applies (with --threads default, the library's defaults decide
-// whether a step goes parallel at all).
+// would beside its physics thread. Over the timed steps the line also gives wall_s and the process's CPU time
+// (user plus system, every thread: process_cpu_s), and cpu_s, that less the busy thread's own (busy_cpu_s):
+// what the physics and its broadphase took from the machine, worker threads spinning or waiting included.
+// --jobs N (quadtree build) hands pair generation to a job system of N workers (quadphase_jobs/job_system.h: a
+// std::thread pool) through quadphase::SetTaskSystem, as a game with its own job system would; --threads still
+// applies (with --threads default, the library's defaults decide whether a step goes parallel at all).
 //
 // --interval I (the soak, scripts/soak.sh): prints resident memory from the start to the end of the run (warm-up
 // and timed steps, counted together): a line at step 0, after the warm-up, every I steps and at the last step,
@@ -235,6 +237,11 @@ int main(int argc, char** argv)
     // per step: for comparing phases over the same steps in both builds
     std::vector<int> stepPhase, stepAwake;
     double contacts = 0.0;
+    // The busy thread's CPU is read on its own clock, so that cpu_s leaves it out.
+    const auto busyCpu = [&] {
+        return busy ? ThreadCpuSeconds(busyThread.native_handle()) : 0.0;
+    };
+    const double cpu0 = ProcessCpuSeconds(), busyCpu0 = busyCpu();
     const int64_t t0 = NowNs();
     for (int s = 0; s < steps; ++s)
     {
@@ -258,6 +265,7 @@ int main(int argc, char** argv)
         memoryLine(warmup + s + 1);
     }
     const int64_t end = NowNs();
+    const double processCpu = ProcessCpuSeconds() - cpu0, busyCpuUsed = busyCpu() - busyCpu0;
     if (busy)
     {
         stopBusy.store(true);
@@ -320,6 +328,9 @@ int main(int argc, char** argv)
         .Num("build_s", buildSeconds)
         .Num("run_s", double(end - run0) * 1e-9)
         .Num("wall_s", wall)
+        .Num("cpu_s", processCpu - busyCpuUsed)
+        .Num("process_cpu_s", processCpu)
+        .Num("busy_cpu_s", busyCpuUsed)
         .Int("peak_rss_bytes", PeakRss());
     if (args.Has("per-step"))
     {

@@ -1,12 +1,18 @@
-// The machine a tool ran on (CPU model, threads, compiler), its peak memory, and the line every tool prints.
+// The machine a tool ran on (CPU model, threads, compiler), its peak memory and CPU time, and the line every tool
+// prints.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <string>
 #include <thread>
+
+#include <pthread.h>
+#include <sys/resource.h>
+#include <time.h>
 
 namespace quadphase::tools
 {
@@ -55,6 +61,32 @@ inline void PrintMachine(std::FILE* out, const char* flags)
 inline int64_t PeakRss()
 {
     return std::atoll(ProcField("/proc/self/status", "VmHWM:", "0").c_str()) * 1024;
+}
+
+/// CPU time this process has used so far, user plus system, every thread together (getrusage RUSAGE_SELF), in
+/// seconds: what the process takes from the machine's other programs, spinning worker threads included.
+inline double ProcessCpuSeconds()
+{
+    rusage u{};
+    if (getrusage(RUSAGE_SELF, &u) != 0)
+    {
+        return NAN;
+    }
+    return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+           double(u.ru_utime.tv_usec + u.ru_stime.tv_usec) * 1e-6;
+}
+
+/// CPU time a running thread of this process has used so far (user plus system), in seconds; NaN when its CPU
+/// clock cannot be read.
+inline double ThreadCpuSeconds(pthread_t thread)
+{
+    clockid_t clock{};
+    timespec t{};
+    if (pthread_getcpuclockid(thread, &clock) != 0 || clock_gettime(clock, &t) != 0)
+    {
+        return NAN;
+    }
+    return double(t.tv_sec) + double(t.tv_nsec) * 1e-9;
 }
 
 } // namespace quadphase::tools
