@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: MIT
 """quadphase's side-by-side benchmark. Run it through bench/run.sh, which builds the tools.
 
 One machine, one run, one Box2D source and set of flags per optimisation level (--builds O2=DIR,O3=DIR):

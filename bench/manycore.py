@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: MIT
 """The report of a bench/manycore.sh run: bench/results/manycore.{md,csv,png} from the raw results a prepared folder's
 run.sh wrote (OUT: machine.txt, build.json, timing.txt, replay.jsonl, circles.jsonl, frames.jsonl, mismatch.txt).
 Run it through bench/manycore.sh --report OUT. --describe BUILD_DIR prints the build's part of the machine description

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Many cores: how pair generation grows with the cores of a machine, and how much CPU the library's defaults take.
 # Records the particles and rain traces, replays them at 1, 2, 4, 8 and 16 threads (up to the machine's cores; pair
 # sets checked against stock Box2D's at 1 and the most threads), runs the paper's protocol (qp-circles) at each thread

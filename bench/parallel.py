@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: MIT
 """Parallel pair-generation benchmark of quadphase (run it through bench/parallel.sh, which builds the tools).
 
 One run records the traces (qp-record), checks every replay's pair sets against stock Box2D's (qp-replay --engine stock

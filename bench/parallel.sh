@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Parallel pair-generation benchmark: installs what it needs (bench/install-deps.sh), configures and builds
 # qp-record / qp-replay (Release), then runs bench/parallel.py, which records the traces, replays
 # them and writes bench/results/parallel.md, parallel.csv and parallel.png. See bench/README.md.

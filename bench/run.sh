@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # quadphase's side-by-side benchmark: in-engine step benchmark (stock Box2D against quadphase,
 # every scene, and rain by phase), broadphase replay (stock, quadphase, brute force, the paper's design, Chipmunk2D,
 # Bullet, memory floor), b2World queries, and the paper's protocol (circles under 20 ms). Installs what it needs,

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # Box2DSource.cmake -- obtain the Box2D 2.4.1 source tree at configure time.
 #
 # Box2D's source is never committed to this repository.  It is located, in

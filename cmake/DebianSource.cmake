@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # DebianSource.cmake -- download a file of a Debian source package (typically its orig tarball) with
 # `apt-get source --download-only` through a private, throw-away apt configuration: its own sources.list (deb-src
 # lines only), lists, cache, status file and no locking, all under one directory. The system's apt setup (sources,

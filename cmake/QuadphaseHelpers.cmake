@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # QuadphaseHelpers.cmake -- small helpers shared by the quadphase build.
 #
 #   quadphase_target_warnings(<target>)

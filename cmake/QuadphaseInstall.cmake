@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # QuadphaseInstall.cmake -- install rules: quadphase's CMake package, and Box2D's own package names.
 #
 # Layout under the install prefix (`cmake --install <build> --prefix P`):

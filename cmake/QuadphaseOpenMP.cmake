@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # QuadphaseOpenMP.cmake -- whether the core's parallel pair generation runs on OpenMP.
 #
 #   QUADPHASE_OPENMP (option)  ON by default when the C++ compiler has OpenMP (find_package(OpenMP)); OFF by default

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # QuadphaseVariant.cmake -- build the same program against either Box2D build.
 #
 #   quadphase_link_box2d_variant(<target> <variant> [PRIVATE|PUBLIC|INTERFACE])

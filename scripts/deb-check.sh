@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # The round trip of scripts/deb.sh's packages on this machine, with Debian's caveexpress as the program:
 #
 #   scripts/deb-check.sh [DEBDIR]        # default build/deb (scripts/deb.sh's OUTDIR); runs as root or through sudo

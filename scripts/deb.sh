@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Debian packages of quadphase's libbox2d, standing in for Debian's libbox2d2 and libbox2d-dev:
 #
 #   scripts/deb.sh [OUTDIR]      # default build/deb

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Side-by-side demo: install dependencies (scripts/install-deps.sh), configure + build (Release) the benchmark's
 # step tools (qp-step-stock, qp-step-quadtree), then run examples/demo/demo.py with the given arguments.
 #

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Fuzzing with libFuzzer (clang-14, AddressSanitizer + UndefinedBehaviorSanitizer, no NDEBUG), two targets:
 #   core   tests/fuzz/broadphase_fuzz.cpp: QuadtreeBroadPhase against the brute-force reference;
 #   box2d  tests/fuzz/box2d_fuzz.cpp: quadphase's b2BroadPhase against Box2D 2.4.1's own, in one process.

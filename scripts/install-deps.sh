@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Install the Debian/Ubuntu packages a command of this repository needs, and nothing else.
 #
 #   scripts/install-deps.sh                       # every purpose but real-game, deb-check, no-openmp and web: what CI

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Race checker for the OpenMP-parallel code: builds the parallel tests with clang-14, LLVM's libomp and
 # ThreadSanitizer, whose OpenMP support (archer, shipped with libomp-14-dev) the runtime loads by itself, and runs
 # them. GCC's ThreadSanitizer is not used: it reports false races inside libgomp, which is not instrumented.

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # A real Box2D 2.4.1 game on quadphase: Debian's CaveExpress 2.5.2 (C++11, finds Box2D with `pkg-config box2d`).
 #
 #   scripts/real-game.sh                      # everything below, into build-real-game/

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Render a scene to PNG frames and an animation: install dependencies (scripts/install-deps.sh), configure + build
 # (Release) quadphase-scene and its two worker programs, then run it.
 #

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Sanitizer run: builds the whole test suite with GCC, AddressSanitizer (with LeakSanitizer) and
 # UndefinedBehaviorSanitizer, float-cast-overflow included (both Box2D builds, the core, the adapter, the scenes and
 # every test program) and runs it with CTest. Any sanitizer report fails the test it happens in

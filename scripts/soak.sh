@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Soak run: 100,000 steps of a churn world (bodies created and destroyed every step) with the quadphase build,
 # printing resident memory (VmRSS, VmHWM) at the start, every INTERVAL steps and at the end (qp-step's --interval,
 # bench/src/step_bench.cpp: the steps run as its untimed warm-up, and one timed step ends the run).

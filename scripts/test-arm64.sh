@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # ARM64 Linux: cross-build quadphase with Debian's aarch64 toolchain (cmake/toolchains/aarch64-linux-gnu.cmake) and
 # run its tests under qemu-user (qemu-aarch64 -L /usr/aarch64-linux-gnu, through CMAKE_CROSSCOMPILING_EMULATOR):
 # the core tests against the brute-force reference, the Box2D adapter tests against stock Box2D built for the same

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # The test suite as Apple's default toolchain would build it: clang-14 with LLVM's libc++ and no OpenMP
 # (-DCMAKE_DISABLE_FIND_PACKAGE_OpenMP=TRUE, so QUADPHASE_OPENMP is OFF). Pair generation then runs serially, or
 # in parallel on a game's TaskSystem (tests/parallel, examples/job_system); Config::threads > 1 falls back to serial

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # quadphase on the web: Box2D 2.4.1 with quadphase built to WebAssembly by Debian's Emscripten
 # (cmake/toolchains/emscripten.cmake: no OpenMP, no pthread, so the library runs serially) and tested under
 # Node.js:

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Install dependencies (scripts/install-deps.sh), configure (Release), build and run
 # all tests of quadphase.
 #

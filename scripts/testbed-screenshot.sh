@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Start Box2D 2.4.1's testbed, built against quadphase (-DQUADPHASE_TESTBED=ON), on a virtual X server (Xvfb)
 # with Mesa's software OpenGL (llvmpipe), open one sample, let it run, and save a screenshot (ffmpeg x11grab).
 #

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // qp-accuracy-stock / qp-accuracy-quadphase / qp-accuracy-paper: one scene, one broadphase configuration, one
 // set of step settings; prints ONE JSON line with the run time per simulated second and the error measures
 // (bench/accuracy/README.md). The same source is compiled against the three Box2D builds:

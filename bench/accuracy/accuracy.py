@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: MIT
 """Error against run time: sweeps qp-accuracy-{stock,quadphase,paper} over scenes, broadphase configurations and
 step settings, then writes the raw results (BUILD_DIR/accuracy/), the plots (docs/accuracy/*.png) and the report
 (docs/accuracy.md). Run through bench/accuracy/run.sh, which builds the programs first.

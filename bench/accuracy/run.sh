@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Error against run time: installs what it needs (bench/install-deps.sh: the project's dependencies plus
 # python3-matplotlib), configures and builds qp-accuracy-{stock,quadphase,paper} (Release), then runs
 # bench/accuracy/accuracy.py, which sweeps scenes x broadphase configurations x step settings and writes

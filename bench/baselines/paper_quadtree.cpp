@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "paper_quadtree.h"
 
 #include <omp.h>

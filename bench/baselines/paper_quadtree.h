@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Benchmark baseline: the design of the paper quadphase comes from (Lok Man Chu, "N-CS159: Parallel Collision
 // Detection", SJSU; /work/shared/reference/parallel-collision-detection-paper.md), reproduced as faithfully as the
 // BroadPhaseInterface allows so that the same traces can be replayed through it. It is APPROXIMATE by design: it

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 """qpbench: what every report script of bench/ shares (bench.py -> RESULTS.md, parallel.py -> parallel.md,
 accuracy/accuracy.py -> docs/accuracy.md).
 

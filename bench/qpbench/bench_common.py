@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 """What bench.py's section modules share: the report's prose, sizes under --scale, the headline engines and how a
 row names them, rows keyed by case and engine, ratios over stock, and a section's head."""
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 """bench.py's circles section (RESULTS.md 4): the paper's protocol, the most circles whose collision detection
 stays under 20 ms per frame (qp-circles), beside the paper's published Tables 1 and 2."""
 

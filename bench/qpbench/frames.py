@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 """bench.py's frames section (--frames, and --full after the rest): every in-engine scene from its first step as a
 game runs it, stock and quadphase (1 and 2 threads, its defaults, a job system), each also beside a busy thread;
 per-step b2Profile broadphase and step p50/p99/max/total and the process's CPU time -> results/frames.{md,csv,png}.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 """bench.py's outputs from its raw results (the tools' JSON lines of every level): each level's rows sorted out by
 section, then results/*.csv, bench.json, the PNG plots and RESULTS.md (summary.py)."""
 

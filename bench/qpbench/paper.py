@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 """The paper's Tables 1 and 2: objects handled within 20 ms (higher is better), by quadtree depth 4..9."""
 
 DEPTHS = [4, 5, 6, 7, 8, 9]

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 """bench.py's in-engine phases section (RESULTS.md 1b): qp-step from the first step of rain, every step reported
 with its phase; the falling, piling and resting phases apart, each build's own and over the same steps."""
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 """matplotlib without a display (bench/install-deps.sh installs python3-matplotlib for /usr/bin/python3)."""
 
 import sys

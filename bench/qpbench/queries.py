@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 """bench.py's queries section (RESULTS.md 3): qp-query-stock and qp-query-quadtree run QueryAABB, short and long
 rays, a mass SetTransform then queries, through b2World; hits checked equal, floors (the output alone) beside."""
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 """bench.py's replay section (RESULTS.md 2, 2a, 2b): one recorded trace per scene and size through stock
 b2BroadPhase, quadphase (1 and 2 threads), brute force (small traces), the paper's design, the tuned Chipmunk2D and
 Bullet peers in both modes, the oracle floor and the replay loop alone, a triad per round (memory floor); pair sets

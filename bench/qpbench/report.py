@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 """Number formats, markdown tables, CSV and JSON files, and the machine section every report starts with."""
 
 import csv

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 """The benchmark scripts' command line, trace recording (reused when a matching trace exists), shuffled orders and a
 progress bar, over quadphase_tools' runner (logs, JSON lines, quiet-waits)."""
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 """Per-round ratios and the two laws of parallel speed-up the reports use (medians and ratios: quadphase_tools.stats)."""
 
 import math

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 """bench.py's in-engine step section (RESULTS.md 1): qp-step-stock and qp-step-quadtree (one source, two Box2D
 builds) step every scene at Box2D's defaults, quadtree at OMP_NUM_THREADS=1 and 2; b2Profile, contacts, pairs, peak
 memory, medians over rounds. The phases section runs the same tool (run_step)."""

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 """bench.py's RESULTS.md: its header and machine, the headline (every target against what this run measured), the
 frames goals, each section's table (the section modules write them), both optimisation levels side by side, notes."""
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // For the tools compiled twice, against stock Box2D 2.4.1 and against Box2D with the quadtree
 // (quadphase_link_box2d_variant): the variant's name and the one quadphase setting they take from the command
 // line.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // quadphase's Box as Box2D's b2AABB.
 #pragma once
 

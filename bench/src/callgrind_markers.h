@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Callgrind's client requests, or no-ops where valgrind's header is missing. The replay loop brackets its timed
 // steps with them (no-ops outside valgrind too), so that valgrind --tool=callgrind --instr-atstart=no counts the
 // timed steps' instructions only.

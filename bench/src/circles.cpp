@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // qp-circles: the paper's protocol. The largest number of circles whose collision detection (broadphase plus
 // the circle-circle test of its candidate pairs) stays under 20 ms per frame, median of 3 repeats.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // qp-replay's engine over a quadphase::BroadPhaseInterface implementation (replay_loop.h's Engine concept),
 // with the buffered-proxy tracking the quadtree's checking run uses; the one checking-then-timed run path every
 // engine goes through (Contender, Drive); and the entry point of the other engines (replay_peers.cpp lists them

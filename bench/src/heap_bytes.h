@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The heap bytes an engine holds, measured the same way for every engine.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // A trace and its step index, loaded and checked to be a valid call sequence.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Pair keys and the pair-set hash of every UpdatePairs call: computed, written, read and compared.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The foreign spatial indexes qp-replay's peers run over (replay_peers.cpp), each behind one small interface:
 //   Insert(id, fat), Update(id, fat), Remove(id)  the box the index keeps for `id` (Box2D's fat box)
 //   Query(fat, fn(int32_t id))                     every id whose indexed box may overlap `fat` (a superset)

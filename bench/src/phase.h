@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The phase a falling-and-piling scene is in after a step, from the world's state (qp-step, qp-record): with D
 // dynamic bodies, "falling" while fewer than 1% of them touch a static body (in rain: until the bottom row of the
 // spawn grid lands), "resting" once fewer than 5% are awake and faster than 0.5 m/s, "piling" in between. A phase

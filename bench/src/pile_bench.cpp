@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // qp-pile-stock / qp-pile-quadtree: the cost of the worst case for any grid, thousands of proxies piled into one
 // cell, through b2BroadPhase itself (one source, two builds: Box2D 2.4.1's dynamic tree in qp-pile-stock, the
 // quadtree in qp-pile-quadtree; docs/robustness.md). Every proxy overlaps every other, so each UpdatePairs after

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // qp-query-stock / qp-query-quadtree: QueryAABB, ray casts and a mass SetTransform through b2World. One
 // source, compiled against stock Box2D 2.4.1 and against Box2D with the quadtree (box2d_variant.h);
 // bench/bench.py runs the two alternately, in a new random order every round, and takes medians over the

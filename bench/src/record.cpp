@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // qp-record: builds a scene, steps it, and records every broadphase call of its world (quadphase::SetTrace) into a
 // trace file, plus a ".steps" side file holding the op index of every world-step boundary (step_index.h).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // qp-replay: replays a trace (qp-record) through a broadphase and times the broadphase work of each recorded
 // step (definition in replay_loop.h): quadphase::QuadtreeBroadPhase (this file; any Config), stock
 // Box2D 2.4.1's b2BroadPhase and the peers (replay_peers.cpp: brute force, the paper's design, Chipmunk2D,

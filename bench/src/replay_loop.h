@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The replay loop of every qp-replay engine, and its timing definition (the same for every engine):
 // - The ops before the first timed step (scene creation and the warm-up steps) are replayed untimed: they bring
 //   the broadphase to the state the recorded world had.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // qp-replay's engines other than the quadtree core (replay.cpp): stock Box2D 2.4.1's b2BroadPhase (the
 // reference line and pair sets), brute force, the paper's design, Chipmunk2D, Bullet, the oracle floor and the
 // null engine. Same replay and timing definition as the quadtree (replay_loop.h). Engine names (--engine):

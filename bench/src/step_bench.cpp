@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // qp-step-stock / qp-step-quadtree: the in-engine step benchmark. One source, compiled against stock
 // Box2D 2.4.1 (QUADPHASE_VARIANT_STOCK) and against Box2D with the quadtree broadphase
 // (QUADPHASE_VARIANT_QUADPHASE); bench/bench.py runs the two alternately, in random order, within one

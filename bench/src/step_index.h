@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The ".steps" side file of a trace (qp-record writes it, qp-replay reads it): the op index of every world-step
 // boundary.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // One timed run of any qp-replay engine: its JSON line (heap bytes, per-step arrays), its printed line, and the
 // times per step of an engine configuration's runs.
 #pragma once

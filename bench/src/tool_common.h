@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Shared by every bench tool (replays, in-engine step and query benchmarks, circles): the clock, FNV-1a hashes,
 // the machine line with the bench's flags, and support/tools (arguments, JSON lines, medians, the machine).
 // Nothing here knows a broadphase.

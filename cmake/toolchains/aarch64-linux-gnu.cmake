@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # Cross-compiling quadphase for ARM64 Linux with Debian's cross toolchain, running the tests under qemu-user.
 #
 #   cmake -S . -B build-arm64 -DCMAKE_TOOLCHAIN_FILE=cmake/toolchains/aarch64-linux-gnu.cmake

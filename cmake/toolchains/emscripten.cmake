@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # Building quadphase for WebAssembly with Debian's Emscripten, the tests run under Node.js.
 #
 #   cmake -S . -B build-web -DCMAKE_TOOLCHAIN_FILE=cmake/toolchains/emscripten.cmake

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: MIT
 """quadphase's side-by-side demo: one scene stepped with stock Box2D 2.4.1 and with the quadtree broadphase.
 
 Runs the benchmark's step tools (bench/src/step_bench.cpp: qp-step-stock and qp-step-quadtree) alternately, stock,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // quadphase-headless: every example scene stepped without a window, with validation on: at every step a shadow
 // b2DynamicTree (Box2D 2.4.1's own broadphase logic) checks the quadtree's pairs and fat AABBs. Prints, per scene,
 // the validation counts and a hash of the bodies' positions and angles, then one hash over all scenes: the line to

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // quadphase-jobs: pair generation on a game's own job system. Steps one scene twice, first on OpenMP's threads
 // (serially in a build without OpenMP, as Config::threads says), then with a small job system of its own (support/job_system: a fixed pool of std::threads and a
 // queue) handed over with quadphase::SetTaskSystem, and shows that the two simulations end bit-identical and

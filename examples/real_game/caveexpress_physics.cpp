@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // caveexpress-physics: plays CaveExpress maps headless through the game's own server code and reports the
 // time of each b2World::Step.
 //

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # Adds the target caveexpress-physics (caveexpress_physics.cpp beside this file) to CaveExpress 2.5.2's own build
 # without editing any of its files: scripts/real-game.sh configures the game with
 #   -DCMAKE_PROJECT_caveproductions_INCLUDE=<this file>

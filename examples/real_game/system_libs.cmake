@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # src/libs/CMakeLists.txt for CaveExpress 2.5.2 built from Debian's orig tarball (scripts/real-game.sh copies it
 # there). Debian's tarball ships no src/libs (the bundled copies of glm, yajl and googletest), but the game's
 # top-level CMakeLists.txt still calls add_subdirectory(src/libs). Like Debian's package, take all three from the

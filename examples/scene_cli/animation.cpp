@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Starts ffmpeg with posix_spawnp (no shell: paths are passed as they are).
 #include "animation.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // GIF and MP4 animations of rendered frames, made by the ffmpeg program.
 #pragma once
 

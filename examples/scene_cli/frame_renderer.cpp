@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Cairo drawing of bodies, quadtree cells, text, legend and scale bar.
 #include "frame_renderer.h"
 

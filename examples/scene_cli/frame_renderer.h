@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Draws a world (and its quadtree overlay) into a PNG with cairo.
 #pragma once
 

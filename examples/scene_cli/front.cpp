@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // quadphase-scene: runs quadphase-scene-quadtree or quadphase-scene-stock (found in this program's directory)
 // according to --broadphase, with the same arguments. Two programs because the two Box2D builds define the
 // same symbols with different class layouts and cannot share one process.

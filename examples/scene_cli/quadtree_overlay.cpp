@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Gathers the occupied cells through quadphase's read-only accessors (GetQuadtree, GetPool, GetPyramid).
 #include "quadtree_overlay.h"
 

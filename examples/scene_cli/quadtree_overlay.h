@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The quadtree's occupied cells of a world, gathered for drawing (empty in the stock build).
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // quadphase-scene-quadtree / quadphase-scene-stock: steps one scene, prints a summary per simulated second,
 // renders PNG frames and animations. The same source is compiled against each Box2D build (see
 // CMakeLists.txt); quadphase-scene (front.cpp) picks one with --broadphase.

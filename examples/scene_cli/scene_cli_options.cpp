@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Parsing and help text of quadphase-scene's options.
 #include "scene_cli_options.h"
 

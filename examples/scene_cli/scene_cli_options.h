@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Command-line options of quadphase-scene and its two workers (quadphase-scene-quadtree,
 // quadphase-scene-stock).
 #pragma once

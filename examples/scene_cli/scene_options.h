@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The command-line values of quadphase-scene and its workers (CLI11 splits the command line,
 // scene_cli_options.cpp): integers with their range, and the scene options --scene, --size, --steps and --seed
 // with the check of --size against the scene's range.

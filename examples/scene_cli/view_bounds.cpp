@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Automatic view: what is in the world at the start.
 #include "view_bounds.h"
 

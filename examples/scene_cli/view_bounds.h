@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The world rectangle a frame shows when the user gives no --view.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // quadphase-which PROGRAM...: which libbox2d.so.2 each program loads, as the dynamic loader resolves it (ldd, so with
 // the caller's LD_LIBRARY_PATH and the program's run paths), and whether that file is quadphase's or stock Box2D's.
 // A library is quadphase's when its dynamic symbol table defines quadphase::GetStats(b2World const&), a documented

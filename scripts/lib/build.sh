@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # scripts/lib/build.sh: the preamble every build script shares (scripts/*.sh, bench/*.sh). Source it:
 #
 #   source "$(dirname "${BASH_SOURCE[0]}")/lib/build.sh"      # from scripts/; bench/ uses ../scripts/lib/build.sh

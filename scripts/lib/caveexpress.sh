@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # shellcheck shell=bash
 # scripts/lib/caveexpress.sh: Debian's caveexpress binary package started on a map under Xvfb, and quadphase's
 # validation reports read from a log; shared by scripts/real-game.sh and scripts/deb-check.sh. Source it after

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Error measures of a Box2D world that do not go through its broadphase: missed contacts (independent overlap
 // search with b2TestOverlap), penetration (fresh contact manifolds), kinetic energy and body positions.
 //

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # cmake -P driver of abi_exports and abi_abidiff: quadphase's libbox2d.so.2 against stock's, built from the same
 # source with the same flags.
 #   -DMODE=exports|abidiff -DSTOCK=<stock libbox2d.so.2> -DQUADPHASE=<quadphase's> -DNM=<nm>

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # cmake -P driver of abi_layout: runs the layout dump built against stock's headers (-DSTOCK=) and against
 # quadphase's (-DQUADPHASE=), prints both side by side, and fails unless every line is identical. -DEMULATOR=<command>
 # starts them where the build machine cannot (CMAKE_CROSSCOMPILING_EMULATOR).

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # cmake -P driver of abi_swap_probe_*: the binary swap, as a user does it with LD_LIBRARY_PATH.
 #   -DPROBE=<swap_probe built against stock headers and libbox2d.so.2>  -DSTOCK_LIB_DIR= -DQUADPHASE_LIB_DIR=
 #   -DNM=<nm>  -DINTERPOSING=0|1  -DTEMPLATES=0|1 (the probe has its template scene)  -DWORK_DIR=<scratch>

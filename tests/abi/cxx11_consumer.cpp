@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // A C++11 game file that includes every installed header (Box2D's, and quadphase's public ones: <quadphase/box2d.h>
 // and the core headers it stands on), built with -std=c++11 -Wall -Wextra -Wpedantic -Werror and linked to
 // quadphase's libbox2d.so.2 (abi_cxx11_consumer): the headers are C++11, and every extra they declare

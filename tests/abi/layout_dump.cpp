@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Prints the binary layout of the Box2D classes a game's compiled code reads inline: sizeof and alignof of
 // b2BroadPhase, b2ContactManager and b2World, and the offset of each of their data members. Built twice from this
 // file, against stock Box2D 2.4.1's headers and against quadphase's (tests/abi/CMakeLists.txt); CompareLayouts.cmake

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // A game's translation unit: every public identifier of quadphase's core and extras (generated list, see
 // tests/abi/CMakeLists.txt) defined as a macro before <box2d/box2d.h>, as games do with names like Config
 // (caveexpress: #define Config ConfigManager::get()). Compiled as C++11 with -Wall -Wextra -Wpedantic -Werror,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // A Box2D 2.4.1 program that knows nothing of quadphase: compiled against stock Box2D's pristine headers and linked
 // to the stock shared library, then run again on quadphase's libbox2d.so.2 through LD_LIBRARY_PATH
 // (tests/abi/RunSwapProbe.cmake). It prints, line by line, what must not depend on the library:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // bench/accuracy's checker must find contacts that are really missing and nothing else; the accuracy report's
 // "missed contacts" of the exact builds (0) mean something only if it does.
 #include <catch2/catch.hpp>

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # Runs a query/ray-cast dump program and, when REFERENCE is given, requires its output to equal REFERENCE
 # byte for byte:
 #   cmake -D PROGRAM=<exe> [-D ARGS="<args>"] -D OUTPUT=<file> [-D REFERENCE=<file>] [-D EMULATOR=<command>]

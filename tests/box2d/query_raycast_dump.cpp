@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Dumps the answers of b2World::QueryAABB and b2World::RayCast on a set of worlds, in a text form that does
 // not depend on the broadphase's traversal order. The same source is compiled against both Box2D builds
 // (qp_query_dump_quadphase, qp_query_dump_stock); tests/box2d/CompareDumps.cmake runs both and requires

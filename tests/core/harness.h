@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The differential harness: drives a QuadtreeBroadPhase and a BruteForceBroadPhase with the same random calls
 // and checks after each one that they agree, and that both agree with an oracle computed here from the fat
 // boxes.

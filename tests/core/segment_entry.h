@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The exact (double) entry of a segment into a box, for tests that need an oracle independent of the float
 // segment test (SegmentTest). No Catch: the fuzz targets use it too (tests/fuzz/strict_segment.h).
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The slab test in double precision, without the types of either side: the exact oracle under the core tests'
 // segment entry (segment_entry.h) and the Box2D-level query dump (tests/box2d/query_raycast_dump.cpp).
 #pragma once

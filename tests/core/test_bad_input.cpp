@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Bad input: unknown or destroyed ids, non-finite and inverted boxes. Each is reported through the error
 // handler with the right code, and the other proxies keep exactly their pairs. A counting handler is
 // installed for every test here (the default one prints to stderr) and restored afterwards. A bad box is reported

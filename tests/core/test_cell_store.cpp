@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The CellStore (cell_store.h): Compact keeps every cell's entries in their slots, lays the blocks out in
 // cell order with the smallest class each, and reuses the array it has rather than allocating a new one.
 #include <vector>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // "Cheap when nothing moves", counted rather than timed: a FindPairs with nothing buffered queries nobody and
 // reports nothing, and one after k moves queries at most k proxies.
 #include <cstdint>

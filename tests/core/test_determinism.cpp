@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Determinism: the same call sequence on two fresh QuadtreeBroadPhase objects gives the same pairs in the
 // same order (and the same query order), at several configurations.
 #include <cstdint>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Randomized differential tests: QuadtreeBroadPhase against BruteForceBroadPhase (and an oracle computed from
 // the fat boxes) over random call sequences, box distributions and configurations. See harness.h for the
 // checks made after every call.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The fat-box policy (fat_policy.h) against Box2D 2.4.1's b2DynamicTree::CreateProxy / MoveProxy arithmetic,
 // written here the way Box2D writes it, compared bit for bit.
 #include <cmath>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Parallel pair generation gives the serial loop's output, pair for pair and in order, at any thread count and
 // under any schedule (and the brute-force reference's set, which the harness checks on every FindPairs).
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // ProxyPool (ids, move buffer, work flags), QuadtreeBroadPhase's Stats and automatic depth, TestOverlap.
 #include <cmath>
 #include <limits>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The Pyramid (pyramid.h): the placement rule, Visit's "superset, each once" promise, and Validate after
 // random insert/update/remove sequences.
 #include <algorithm>

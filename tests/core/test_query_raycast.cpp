@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Query and RayCast: the quadtree reports the same ids as the brute force (and as an oracle), clipping finds
 // the same closest fraction, and an early exit stops after exactly one callback. The checks live in
 // Harness::CheckQuery and Harness::CheckRay.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Query and RayCast callbacks that call back into the broadphase (a game spawning, destroying and teleporting
 // bodies from b2World::QueryAABB and RayCast callbacks), queries after a mass teleport, and GetStats beside
 // concurrent const calls. The contract is on QuadtreeBroadPhase::Query:

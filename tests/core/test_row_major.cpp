@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Cell indexing (row_major.h): row-major indices, level offsets, neighbours, parents and children, and the
 // paper's creation-order numbering (its Figure 1) with the re-indexing to row-major order.
 #include <cstdint>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // ShiftOrigin: every fat box moves by -newOrigin with Box2D's float operations (bit-identical to the brute
 // force), and pairs and queries still match afterwards. Harness::Shift checks the boxes; the rest of the
 // harness checks everything else.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Helpers shared by the core tests: random boxes, the error-handler guard, pair and id collection.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // ThreadChoice (Config::threads == 0) driven by synthetic costs: which mode it settles on, how it probes, and that
 // each mode is charged the aftermath of its own calls (the window of a call includes the cost the previous call's
 // mode left behind).

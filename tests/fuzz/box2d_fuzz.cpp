@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // libFuzzer target at the Box2D level: random call sequences on quadphase's b2BroadPhase (the adapter every
 // game calls), each answer checked against Box2D 2.4.1's own b2BroadPhase compiled into the same process
 // (stock/stock_broad_phase.h). Only b2BroadPhase's stock public API and the free functions of

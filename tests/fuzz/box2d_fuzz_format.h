@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The operations of the Box2D-level fuzz target (box2d_fuzz.cpp) and their opcode bytes, shared with the
 // trace converter (trace_to_input.cpp) so that both read and write the same programs.
 //

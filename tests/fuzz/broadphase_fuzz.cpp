@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // libFuzzer target: random call sequences on QuadtreeBroadPhase, each answer checked against
 // BruteForceBroadPhase.
 //

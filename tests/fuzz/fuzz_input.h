@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Reading a fuzz input as a program: the byte reader and the box and ray generators that both fuzz targets
 // (broadphase_fuzz.cpp, box2d_fuzz.cpp) share, so that the same bytes mean the same shapes in both.
 #pragma once

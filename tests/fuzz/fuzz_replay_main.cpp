@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Replays fuzz inputs through the fuzz target without libFuzzer: each argument is a file or a directory of
 // files (not recursive). Every normal test run replays the committed corpus (tests/fuzz/corpus) this way, so
 // the corpus is exercised with any compiler. A divergence aborts (see broadphase_fuzz.cpp). Exit status 1

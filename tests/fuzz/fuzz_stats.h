@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Work counters of a fuzz target, printed at exit when QP_FUZZ_STATS=1: libFuzzer counts executions, and
 // these say how much each execution checked (operations run against the reference, full Validate() calls), so
 // that a speed-up that came from shorter programs would show.

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Regenerates tests/fuzz/seeds/box2d: one short recorded trace per scene of the scene library (bench/'s qp-record:
 # scene creation, 2 warm-up steps, 10 steps; size 8, pyramid 4, tiles 100, the smallest it takes), converted by
 # qp_trace_to_input into inputs of the Box2D-level fuzz target, cut at 2 KB (short inputs keep the fuzzer fast),

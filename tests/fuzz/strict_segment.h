@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The proxies a segment must reach whatever the float rounding: what both fuzz targets demand of RayCast
 // where its answer cannot be compared with b2DynamicTree's test exactly.
 //

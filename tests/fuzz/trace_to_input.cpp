@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // qp_trace_to_input: converts a recorded broadphase trace (bench/'s qp-record, quadphase/trace.h) into an
 // input of the Box2D-level fuzz target (box2d_fuzz.cpp), so that the fuzzer starts from the calls real scenes
 // make: boxes and displacements bit for bit, proxies named by their recorded ids.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # RunConsumer.cmake -- cmake -P driver for the package tests (see tests/CMakeLists.txt).
 #
 # Required -D arguments:

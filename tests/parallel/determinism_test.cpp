@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Determinism of parallel pair generation: the same scene stepped with any thread count and any OpenMP schedule,
 // or on a game's job system with any worker count, gives bit-identical bodies, because FindPairs hands Box2D the
 // same pairs in the same order.

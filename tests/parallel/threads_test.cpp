@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Which threads the library starts, counted in the process (/proc/self/status). Each test case runs in a process
 // of its own (see CMakeLists.txt), so that no earlier test has started OpenMP's team already.
 #include <catch2/catch.hpp>

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # cmake -P driver of robustness_secure_environment: a set-group-ID program ignores the QUADPHASE_* variables, and
 # the validation log's descriptor is closed on exec.   -DCHILD=<secure_environment_child> -DWORK_DIR=<scratch>
 # The child runs twice with the same variables (QUADPHASE_VALIDATE, _STOCK_TREE, _STRICT, _VALIDATE_LOG,

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # cmake -P driver of robustness_validation_log: QUADPHASE_VALIDATE_LOG keeps what validation found in a program
 # that never exits normally.   -DCHILD=<validation_log_child> -DWORK_DIR=<scratch> [-DEMULATOR=<command>: starts
 # the child where the build machine cannot, as CMAKE_CROSSCOMPILING_EMULATOR does for ctest]

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Bad input at the Box2D level (quadphase build): a body whose AABB becomes NaN or infinite, and b2BroadPhase
 // given unknown or destroyed ids, zero-size and inverted AABBs. The error hook gets a clear report, the call
 // has defined behaviour (this is a release build, where the default handler does not abort), and every other

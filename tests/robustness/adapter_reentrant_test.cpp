@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // b2World::QueryAABB and b2World::RayCast callbacks that do what games do from them: spawn debris, destroy other
 // bodies, teleport, enable, disable and wake bodies, over many rounds and steps (quadphase build, validation on).
 // The contract (b2BroadPhase::Query in quadphase's b2_broad_phase.h):

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Validation mode switched on mid-run (quadphase build, b2BroadPhase): the shadow b2DynamicTree is seeded
 // from the quadtree's fat AABBs, and some of them have no tight AABB that b2DynamicTree::CreateProxy fattens
 // to them (below a power of two, fl(t + 0.1) skips every other float). Found by the Box2D-level fuzzer

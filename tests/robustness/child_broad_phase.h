@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // For the child programs of the cmake -P drivers (validation_log_child.cpp, secure_environment_child.cpp), which
 // drive a b2BroadPhase directly: a callback for UpdatePairs and the boxes of their proxies.
 #pragma once

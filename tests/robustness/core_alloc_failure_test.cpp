@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // std::bad_alloc inside FindPairs, at every allocation it makes, on 2 threads (OpenMP's, or without OpenMP a task
 // system's): the exception must reach the caller (an exception that leaves an OpenMP region ends the program),
 // the broadphase must stay valid, and the next FindPairs must report every pair a twin that never failed reports:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Extreme proxy counts at the core level (no Box2D): one million proxies, and thousands in one cell. The
 // million is checked against a uniform-grid reference written here (independent of the quadtree's code), and
 // that reference against the brute force on a sample of proxies; the pile against the brute force in full.

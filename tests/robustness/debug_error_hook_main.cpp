@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The error hook as built without NDEBUG (CMake compiles plugin/core/src/error.cpp into this program with
 // -UNDEBUG): an installed handler receives the report and the program goes on; the default handler prints the
 // message to stderr and goes on too, as a stock Box2D debug build goes on with a runaway body; strict mode

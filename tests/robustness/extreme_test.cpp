@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Extreme cases (docs/robustness.md), run identically in the stock and the quadphase build of Box2D: far
 // coordinates and ShiftOrigin, sizes over seven decades, thousands of bodies in one spot, proxies that leave the
 // bounds fast and come back, bodies created and destroyed every step. Both builds must pass the same checks; the

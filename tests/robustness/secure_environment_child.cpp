@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Child process of robustness_secure_environment (RunSecureEnvironment.cmake), run once as it is and once as a
 // set-group-ID copy: `secure_environment_child LOG` reports on one line which QUADPHASE_* variables it obeyed, and
 // how the kernel started it, so that the driver can tell "ignored because secure" from "never set":

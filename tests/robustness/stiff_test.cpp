@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Stiff cases (docs/robustness.md), run identically in the stock and the quadphase build of Box2D: both must pass the
 // same physical checks (no NaN, bounded speed, the tower still standing, no bullet through a wall), and the
 // quadphase build must give exactly the stock tree's pairs (validation mode, 0 mismatches). Each prints a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Child process of robustness_validation_log (RunValidationLog.cmake): a program that validates its broadphase
 // (QUADPHASE_VALIDATE=1), finds mismatches, and never exits normally: `validation_log_child abort|kill|strict N`
 // runs N UpdatePairs, of which every tenth follows a move made behind the shadow tree's back (straight into the

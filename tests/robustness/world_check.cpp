@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "world_check.h"
 
 #include <cmath>

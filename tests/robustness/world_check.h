@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Helpers for the Box2D-world robustness tests, compiled once per Box2D build (stock and quadphase). Each
 // test asserts the same physical criteria in both builds (no NaN, bounded speed, bodies where they must be),
 // so a quadphase-only explosion or tunnelling fails the quadphase program while the stock one passes. In the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // quadphase-scene's options parser: defaults, both option forms, and a clear UsageError for each kind of
 // mistake.
 #include <catch2/catch.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Runs quadphase-scene (the front, so both workers and the --broadphase switch are exercised): every scene
 // for a few steps in both builds writes valid PNG frames of the asked size; GIF and MP4 come out of ffmpeg;
 // bad options exit with status 2 and a message.

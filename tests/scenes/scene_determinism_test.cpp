@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Scenes are deterministic functions of (size, seed); the registry and the random mapping behave.
 #include <catch2/catch.hpp>
 

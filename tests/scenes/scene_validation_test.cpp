@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Every scene, stepped 600 times with the quadtree broadphase in validation mode: at each UpdatePairs a
 // shadow b2DynamicTree (Box2D 2.4.1's own logic) computes the pairs the stock broadphase would report, and
 // the fat AABBs and MoveProxy decisions are compared too. Any disagreement is a mismatch.

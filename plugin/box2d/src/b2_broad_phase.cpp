@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // quadphase's b2BroadPhase: forwards Box2D's calls to the quadtree (the core) and stock's node records, and tells
 // the observers (broad_phase_observer.h). Its private functions that only stock-tree mode needs are in
 // stock_tree_mode.cpp.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // What quadphase's own tools (examples, tests, benchmarks) reach beyond <quadphase/box2d.h>: the quadtree behind a
 // b2BroadPhase, and trace recording. Not installed, and not exported from libbox2d.so.2: these hand out the core's
 // internal types, so only programs that link the static quadphase::box2d (through quadphase::box2d_internal) call

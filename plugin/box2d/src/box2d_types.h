@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Box2D's types and settings as the core's: b2AABB as Box, b2_aabbExtension and b2_aabbMultiplier as FatPolicy.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // What watches a quadphase b2BroadPhase: trace recording, validation, stock-tree mode. b2_broad_phase.cpp forwards
 // each call to the core and tells the observers, once per call; each observer is a file of its own.
 #pragma once

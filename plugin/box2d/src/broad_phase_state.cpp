@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The state behind b2BroadPhase's opaque pointer: its block, its modes and the list of its observers.
 #include "broad_phase_state.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // What a quadphase b2BroadPhase holds behind its opaque pointer. Private to the library: b2_broad_phase.h declares
 // only stock Box2D's members (see the rules at its top).
 #pragma once

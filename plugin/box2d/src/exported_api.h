@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Which of quadphase's names libbox2d.so.2 exports. Box2D's sources are compiled with hidden visibility, as stock's
 // CMake builds them, so the library exports what B2_API marks (stock's symbols) and, through this file, quadphase's
 // public extras: what the installed headers declare (<quadphase/box2d.h> and the core headers it stands on:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Stock's node records: see node_records.h.
 #include "node_records.h"
 

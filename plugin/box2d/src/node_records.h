@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Stock's node records: m_tree's node array, kept exact at every moment for stock's inline readers (GetFatAABB,
 // GetUserData, TestOverlap), which a program compiled against stock's headers runs on this library.
 #pragma once

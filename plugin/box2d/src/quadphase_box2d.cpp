@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // quadphase's API for Box2D users (quadphase/box2d.h) and for its own tools (box2d_internal.h): reaches a b2World's
 // broadphase and forwards to its quadtree.
 #include "quadphase/box2d.h"

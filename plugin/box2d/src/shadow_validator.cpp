@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // ShadowValidator: a b2DynamicTree fed the same calls as the quadtree, compared with it at every UpdatePairs.
 #include "shadow_validator.h"
 

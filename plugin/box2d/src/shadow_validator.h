@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Validation mode of the Box2D adapter: a shadow b2DynamicTree fed the same calls as the quadtree.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Where a b2BroadPhase keeps the members that stock Box2D's inline functions read.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Stock-tree mode: see stock_tree_mode.h. Also b2BroadPhase's private functions that stock's header declares,
 // which do stock's work on the move and pair buffers.
 #include "stock_tree_mode.h"

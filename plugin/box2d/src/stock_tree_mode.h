@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Stock-tree mode (QUADPHASE_STOCK_TREE=1): a real b2DynamicTree in b2BroadPhase::m_tree's storage, with stock's
 // move and pair buffers, kept beside the quadtree so that stock's inline templates compiled into a program give
 // stock's answers (docs/design.md, "Binary compatibility", rule 5).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Trace recording: see trace_observer.h.
 #include "trace_observer.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Trace recording (quadphase::SetTrace): every call of a b2BroadPhase, appended to a caller's Trace.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // QUADPHASE_VALIDATE_LOG: see validation_log.h.
 #include "validation_log.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The record validation leaves in a file (QUADPHASE_VALIDATE_LOG), for programs that never reach a normal exit.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Validation mode: see validation_observer.h.
 #include "validation_observer.h"
 

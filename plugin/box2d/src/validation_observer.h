@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Validation mode (quadphase::SetValidation, QUADPHASE_VALIDATE=1): a ShadowValidator fed every call of a
 // b2BroadPhase, and the totals of every validating broadphase of the process, printed at exit.
 #pragma once

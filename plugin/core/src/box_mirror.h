@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Caller-owned records that receive a copy of every fat box the broadphase writes.
 #pragma once
 

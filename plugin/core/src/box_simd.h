@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The two tests the broadphase runs most, on the four floats of a box at once (SSE2, baseline on x86-64), with the
 // same results, bit for bit, as the scalar definitions in box.h and fat_policy.h, which other targets use.
 //

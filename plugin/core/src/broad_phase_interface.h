@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The interface every broadphase of this project implements: the quadtree, and the brute-force reference that
 // tests and benchmarks check it against (the pattern of Jolt Physics' BroadPhaseBruteForce).
 #pragma once

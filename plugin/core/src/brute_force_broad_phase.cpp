@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // BruteForceBroadPhase: every buffered proxy tested against every live one.
 #include "brute_force_broad_phase.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The O(n^2) reference broadphase: obviously correct, used by tests and benchmarks to check the quadtree.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // CellStore: block allocation in the shared entry array, compaction in cell order, and the invariant check.
 #include "cell_store.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The entries of every cell of the pyramid, kept in one array.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The QUADPHASE_* variables, ignored in secure-execution mode: see environment.h.
 #ifndef _GNU_SOURCE
 #define _GNU_SOURCE 1 // glibc declares secure_getenv only with it (g++ defines it already on Linux)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Reading quadphase's settings from the environment (the QUADPHASE_* variables): the one place that does it.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The error hook: the process-wide handler, the default one (print, and abort in strict mode) and the code names.
 #include "quadphase/error.h"
 #include "report_error.h"

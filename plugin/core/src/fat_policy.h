@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The fat-box policy of Box2D 2.4.1's b2DynamicTree, reproduced operation for operation so that the stored
 // boxes are bit-identical to the stock tree's. Contacts live and die on TestOverlap of these boxes, so any
 // difference here would change the simulation.

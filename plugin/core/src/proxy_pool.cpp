@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // ProxyPool: id allocation, the move buffer and its loan to FindPairs, and the invariant check.
 #include "proxy_pool.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Proxy records shared by every broadphase implementation: ids, fat boxes, user data and the move buffer.
 #pragma once
 

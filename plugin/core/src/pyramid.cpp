@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Pyramid: placing proxies in the static quadtree, moving them between cells (one at a time and in batches),
 // rebuilding, occupancy counts and the invariant check.
 #include "pyramid.h"

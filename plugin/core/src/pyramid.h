@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The static quadtree: a complete pyramid of levels 0..depth over a square region, every level a dense
 // row-major grid (see row_major.h).
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // QuadtreeBroadPhase's proxies and settings: create, destroy, read, shift, configure and the task system. The other jobs have a file
 // each: quadtree_move_queue.cpp, quadtree_pairs.cpp, quadtree_queries.cpp, quadtree_tuning.cpp, quadtree_checks.cpp.
 #include "quadtree_broad_phase.h"

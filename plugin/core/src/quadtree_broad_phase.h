@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The static-quadtree broadphase: proxies in a Pyramid, pairs found by one independent query per buffered proxy.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // QuadtreeBroadPhase's statistics (GetStats, ResetCounters) and its invariant check (Validate).
 #include "quadtree_broad_phase.h"
 

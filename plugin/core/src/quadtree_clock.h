@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Clock readings shared by the parts of QuadtreeBroadPhase (private to the core's sources).
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // QuadtreeBroadPhase's moves: MoveProxy, the move queue (QueueMove's slow path and its apply) and the stale entries
 // that both leave for the next FindPairs or query.
 #include "quadtree_broad_phase.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // QuadtreeBroadPhase::FindPairs: one query per buffered proxy, serial or in fixed blocks on OpenMP threads or the
 // game's task system, with the same pairs in the same order every way.
 #include "quadtree_broad_phase.h"

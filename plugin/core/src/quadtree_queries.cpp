@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // QuadtreeBroadPhase's queries: Query (a box) and RayCast (a segment walked cell by cell along the ray), both safe
 // against callbacks that change the broadphase.
 #include "quadtree_broad_phase.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // QuadtreeBroadPhase's automatic tuning: when to re-tune, the bounds and depth it picks, and the rebuild.
 #include "quadtree_broad_phase.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Segment queries with the same arithmetic as Box2D 2.4.1's b2DynamicTree::RayCast, so that the same boxes
 // pass the same tests.
 #pragma once

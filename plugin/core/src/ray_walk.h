@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // RayWalk: the cells of the static quadtree that a segment's proxies can live in, level by level, in the ray's
 // direction (QuadtreeBroadPhase::RayCast; private to the core's sources).
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // How quadphase's own code reports bad input and misuse: through the handler a user installs with SetErrorHandler
 // (quadphase/error.h). The core and the Box2D adapter call it; users do not.
 #pragma once

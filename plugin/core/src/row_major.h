@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Cell indexing of the static quadtree (a complete pyramid of levels 0..depth).
 //
 // Level l is a 2^l x 2^l grid. Within a level, cells are numbered in row-major order:

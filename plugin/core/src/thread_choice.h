@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Serial or parallel: the choice Config::threads == 0 makes for each large FindPairs call, from measured costs.
 #pragma once
 

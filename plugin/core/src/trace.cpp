@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Trace: saving and loading recorded broadphase calls (the binary file format), and counting their UpdatePairs.
 #include "trace.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // A recorded sequence of broadphase calls, replayable through any broadphase (bench/ and tests use it to compare
 // implementations on identical input).
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // bullets: a shooting gallery: many fast bullet bodies (continuous collision against everything) fired
 // through slotted thin walls at a pile of boxes, so most steps have many time-of-impact events.
 //

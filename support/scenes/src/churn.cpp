@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // churn: create-and-destroy churn, as in games that spawn and despawn debris, pickups and projectiles.
 //
 // Gravity -10. An open-top container (one static body: floor with its top at y = 0 and two walls) of inner

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // mixed: bodies of very different sizes, from pebbles to boulders, falling onto one huge static ground.
 //
 // Gravity -10. The ground is one static box 20 km wide (its top at y = 0): a single proxy spanning the whole

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // openworld: an open-world map far from the origin: towns of static buildings with vehicles driving through
 // their streets and out into the countryside, trees scattered in between.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // particles: the broadphase paper's test scene.
 //
 // N circles of radius 0.5 m (density 1, friction 0, restitution 1) with random directions and speeds uniform

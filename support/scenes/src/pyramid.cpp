@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // pyramid: the Box2D testbed's Pyramid, with a configurable base.
 //
 // A two-sided edge ground and base*(base+1)/2 unit boxes (density 5, friction 0.2 Box2D default) stacked as

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // rain: a large number of mixed circles and boxes dropped into a wide open-top container.
 //
 // Bodies: half circles (radius 0.2-0.5 m), half boxes (half extents 0.2-0.45 m, random angle), density 1,

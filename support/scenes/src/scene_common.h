@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Internal helpers shared by the scene builders (not installed, not part of the API).
 #pragma once
 

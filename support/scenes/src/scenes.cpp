@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Scene registry, name parsing, stepping and hashing helpers.
 #include "quadphase_scenes/scenes.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // shooter: a top-down shooter: a player circling the arena fires streams of bullets into a crowd of enemies
 // that chase it.
 //

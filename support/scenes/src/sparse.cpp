@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // sparse: an open-world game map: many moving bodies and static rocks spread thinly over a large area.
 //
 // No gravity. The world is a square of cols x cols cells of 20 m (cols = ceil(sqrt(1.1 N))), closed by four

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // terrain: a rolling landscape made of one chain shape, with wheels and rocks rolling down into its valleys.
 //
 // Gravity -10. The ground is one static b2ChainShape with a vertex every metre over a width

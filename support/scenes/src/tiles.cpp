@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // tiles: the Box2D testbed's Tiles benchmark (a static-proxy stress test), with a configurable tile count.
 //
 // One static body holds rows x columns box fixtures of 1x1 m (each fixture is its own broadphase proxy),

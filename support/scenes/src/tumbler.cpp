@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // tumbler: the Box2D testbed's Tumbler benchmark.
 //
 // A dynamic hollow box (four 1 m thick walls, 20 x 20 m outside, 19 x 19 m inside, density 5, never sleeps)

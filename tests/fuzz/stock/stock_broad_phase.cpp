@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Compiled against Box2D 2.4.1's pristine headers with b2BroadPhase renamed (see stock_broad_phase.h).
 #include "stock_broad_phase.h"
 

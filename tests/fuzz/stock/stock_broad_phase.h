@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Box2D 2.4.1's own b2BroadPhase (over b2DynamicTree), compiled into the fuzz target under another name so
 // that it runs beside quadphase's b2BroadPhase in one process: the oracle of box2d_fuzz.cpp.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Package smoke test shared by tests/package/*_consumer.
 //
 // Creates a b2World with two overlapping dynamic boxes (and one far away),

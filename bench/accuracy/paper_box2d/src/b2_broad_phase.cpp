@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // b2BroadPhase of the paper-design Box2D build: its constructor, which reads the paper settings
 // (the calls are forwarded to PaperQuadtreeBroadPhase inline, in the header).
 #include "box2d/b2_broad_phase.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // quadphase's b2BroadPhase: the public API and the binary layout of Box2D 2.4.1's b2_broad_phase.h, implemented
 // over a static quadtree (quadphase::QuadtreeBroadPhase, held behind an opaque pointer) instead of b2DynamicTree.
 // This header replaces Box2D's own in the include tree that quadphase's Box2D is built with and installed with.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // quadphase's API for Box2D users: settings, statistics and validation of a b2World's broadphase.
 // Only available when linking quadphase::box2d (the stock build has no quadtree).
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Axis-aligned boxes and the exact comparisons the broadphase relies on.
 #pragma once
 

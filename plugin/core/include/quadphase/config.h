@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // User settings of the quadtree broadphase.
 #pragma once
 

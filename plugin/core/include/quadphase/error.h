@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The error hook: how bad input (non-finite or inverted boxes, unknown proxy ids) is reported.
 #pragma once
 

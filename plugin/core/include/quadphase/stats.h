@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Counters describing a broadphase's current shape and its recent work.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The game's own job system, handed to quadphase so that pair generation runs on the game's workers instead of
 // OpenMP's threads. Modelled on Box2D v3's b2WorldDef (enqueueTask, finishTask, workerCount, userTaskContext).
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // A small job system of the kind games already run: a fixed pool of std::threads fed from one queue. It hands
 // itself to quadphase as a quadphase::TaskSystem, so that pair generation runs on these threads instead of OpenMP's.
 // The example and the tests use it; a game would hand over its own.

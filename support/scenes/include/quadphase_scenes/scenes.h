@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Game-like Box2D 2.4.1 worlds shared by the tests, the benchmarks and the demo.
 //
 // Every scene is built from (size, seed) alone and is deterministic: the same binary building the same scene

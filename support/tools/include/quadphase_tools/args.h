@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The command line of the tools: "--key value", "--key=value" and "--flag" options, parsed by CLI11. The usage
 // text stays the tool's own (Check prints it), so every tool documents its options in one place.
 #pragma once

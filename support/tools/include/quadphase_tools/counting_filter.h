@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // A contact filter that counts the new pairs reaching Box2D's filtering: the same count whatever the
 // broadphase reports internally, so the builds can be compared on it. Compiled against the including
 // program's Box2D build.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // JSON lines of the tools, written with nlohmann-json: one flat object per measurement, keys in the order
 // written, numbers to 9 significant digits (whole ones as integers; null when not finite).
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The machine a tool ran on (CPU model, threads, compiler), its peak memory and CPU time, and the line every tool
 // prints.
 #pragma once

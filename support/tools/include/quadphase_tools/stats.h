@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Medians and means of the tools' samples.
 #pragma once
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 """What the side-by-side demo (examples/demo) and the benchmark's report scripts (bench/) share; the C++ tools' side
 is support/tools/include/quadphase_tools.
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 """The machine, the build and the code a report measured, and how busy the machine is."""
 
 import hashlib

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 """Running a program's tools: one log and one JSON-lines file per run, and quiet-waits before timed rounds."""
 
 import json

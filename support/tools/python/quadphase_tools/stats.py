@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 """Medians and ratios, as the reports and the demo take them."""
 
 import math

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // b2BroadPhase over the paper's static quadtree (bench/baselines' PaperQuadtreeBroadPhase): the public API of
 // Box2D 2.4.1's b2_broad_phase.h, for the third Box2D build that bench/accuracy measures. APPROXIMATE by
 // design: each UpdatePairs reports the pairs the paper's algorithm finds among ALL proxies

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Settings of the paper-design b2BroadPhase (the third Box2D build of bench/accuracy, qp-accuracy-paper).
 //
 // b2World constructs its b2BroadPhase itself, with no arguments, so the paper's quadtree takes its levels,
