@@ -7,8 +7,9 @@
 
 #include "box2d/b2_collision.h"
 #include "box2d/b2_settings.h"
-#include "quadphase/box.h"
+#include "broad_phase_interface.h"
 #include "fat_policy.h"
+#include "quadphase/box.h"
 
 namespace quadphase
 {
