@@ -99,6 +99,7 @@ if(MODE STREQUAL "find_package")
             message(FATAL_ERROR "[${MODE}] readelf -d failed on the installed libbox2d.so.2.4.1")
         endif()
         string(REGEX MATCH "\\(NEEDED\\)[^\n]*lib(gomp|omp|iomp5)\\.so[.0-9]*" needs_omp "${dynamic}")
+        string(REGEX MATCH "lib[a-z0-9]+\\.so[.0-9]*$" needs_omp "${needs_omp}") # the library's name alone
         file(STRINGS "${prefix}/lib/pkgconfig/box2d.pc" libs_private REGEX "^Libs.private:")
         string(REGEX REPLACE "^Libs.private: *" "" libs_private "${libs_private}")
         if(OPENMP AND NOT needs_omp)
