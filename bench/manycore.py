@@ -9,6 +9,7 @@ import argparse
 import json
 import math
 import os
+import re
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -59,6 +60,12 @@ def read_keyed(path):
                 elif k:
                     info[k] = v.strip()
     return info
+
+
+def minutes(times):
+    """Minutes of CPU from bash's `times` line of the children ("7m40.7s 0m2.9s": user, system); None without one."""
+    parts = [re.fullmatch(r"(\d+)m([\d.]+)s", t) for t in (times or "").split()]
+    return sum(int(m[1]) + float(m[2]) / 60 for m in parts) if parts and all(parts) else None
 
 
 def machine_info(out):
@@ -316,9 +323,11 @@ def main():
     _, frame_rows = frames.frame_rows(read_lines(os.path.join(out, "frames.jsonl")))
     os.makedirs(args.results, exist_ok=True)
     parts = {k: timing.get(k, "?") for k in ("record", "check", "replay", "circles", "frames")}
+    cpu = minutes(timing.get("tools_cpu"))
     L = ["# Many cores: pair generation against threads, and the CPU the defaults take", "",
          TEXT["header"].format(profile=run.get("profile", "?"), cores=info["cores"], minutes=int(
-             timing.get("total", 0)) / 60, repeats=run.get("repeats"), **parts), ""]
+             timing.get("total", 0)) / 60, repeats=run.get("repeats"), **parts)
+         + (f" The tools used {cpu:.1f} min of CPU (user plus system, all their threads)." if cpu else ""), ""]
     if mismatch:
         L += [f"**PAIR SETS DIFFER FROM STOCK'S: {mismatch}. These timings are not valid.**", ""]
     proj, fits = projection_section(cases, counts)

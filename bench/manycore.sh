@@ -254,6 +254,12 @@ measure() {
     done
     part "" ""
     echo "total $(($(now) - t0))" >>"$out/timing.txt"
+    # The tools' user and system time, from the builtin's second line, "1m2.5s 0m0.1s" (run in this shell: in a
+    # command substitution it would count the subshell's children only).
+    local tools_cpu
+    times >"$work/times"
+    { read -r _ && read -r tools_cpu; } <"$work/times"
+    echo "tools_cpu $tools_cpu" >>"$out/timing.txt"
     echo "loadavg_end $(cut -d' ' -f1-3 /proc/loadavg)" >>"$out/machine.txt"
     ((keep_work)) || rm -rf "$work"
     [[ ! -s $out/mismatch.txt ]] || echo "manycore: PAIR SETS DIFFER FROM STOCK'S: $(cat "$out/mismatch.txt")" >&2
