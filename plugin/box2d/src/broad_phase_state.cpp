@@ -6,6 +6,7 @@
 
 #include "box2d_types.h"
 #include "environment.h"
+#include "quadphase/box2d.h"
 #include "trace_observer.h"
 #include "validation_observer.h"
 
@@ -106,4 +107,23 @@ const BroadPhaseState& StateOf(const b2BroadPhase& broadPhase)
 }
 
 } // namespace detail
+
+// The b2BroadPhase-level API of <quadphase/box2d.h> lives beside the constructor's state, in the object every
+// program that creates a broadphase links, so that a statically linked game carries it (and a probe for it finds it).
+void SetValidation(b2BroadPhase& broadPhase, bool enabled)
+{
+    detail::StateOf(broadPhase).SetValidation(enabled);
+}
+
+bool IsValidating(const b2BroadPhase& broadPhase)
+{
+    return detail::StateOf(broadPhase).validation != nullptr;
+}
+
+ValidationReport GetValidationReport(const b2BroadPhase& broadPhase)
+{
+    const detail::BroadPhaseState& state = detail::StateOf(broadPhase);
+    return state.validation != nullptr ? detail::ValidationReportOf(*state.validation) : ValidationReport{};
+}
+
 } // namespace quadphase

@@ -87,22 +87,6 @@ const QuadtreeBroadPhase& GetQuadtree(const b2BroadPhase& broadPhase)
     return detail::StateOf(broadPhase).core;
 }
 
-void SetValidation(b2BroadPhase& broadPhase, bool enabled)
-{
-    detail::StateOf(broadPhase).SetValidation(enabled);
-}
-
-bool IsValidating(const b2BroadPhase& broadPhase)
-{
-    return detail::StateOf(broadPhase).validation != nullptr;
-}
-
-ValidationReport GetValidationReport(const b2BroadPhase& broadPhase)
-{
-    const detail::BroadPhaseState& state = detail::StateOf(broadPhase);
-    return state.validation != nullptr ? detail::ValidationReportOf(*state.validation) : ValidationReport{};
-}
-
 void SetTrace(b2BroadPhase& broadPhase, Trace* trace)
 {
     detail::StateOf(broadPhase).SetTrace(trace);
