@@ -8,7 +8,7 @@
 #   scripts/install-deps.sh --for bench python3-matplotlib   # extra package names are installed too
 #   scripts/install-deps.sh --list [--for PURPOSE]           # print the packages, install nothing
 #
-# Purposes (each includes "core": compiler, CMake, Catch2, cairo, and what fetches Box2D's source):
+# Purposes (each includes "core": compiler, ccache, CMake, Catch2, cairo, and what fetches Box2D's source):
 #   test         scripts/test.sh: + ffmpeg (configuring the project builds the tests, which need Catch2, and
 #                quadphase-scene, which needs cairo; its tests write a GIF and an MP4 through ffmpeg), abigail-tools
 #                (tests/abi compares libbox2d.so.2's ABI with stock's by abidiff)
@@ -27,7 +27,7 @@
 #   deb          scripts/deb.sh: + debhelper, dpkg-dev, lintian (Debian packages of quadphase's libbox2d)
 #   deb-check    scripts/deb-check.sh: + Xvfb, Mesa (its round trip installs and removes caveexpress itself)
 #   arm64        scripts/test-arm64.sh: + Debian's aarch64 cross g++ (with its libstdc++, libgomp and glibc), qemu-user to
-#                run the tests, abigail-tools (tests/abi's abidiff), ccache
+#                run the tests, abigail-tools (tests/abi's abidiff)
 # Idempotent: does nothing (and no `apt-get update`) when everything is installed. Runs as root, or through sudo.
 set -euo pipefail
 
@@ -40,6 +40,7 @@ core=(
     pkg-config              # cairo; tests/package: a game finding Box2D through pkg-config box2d
     ca-certificates xz-utils
     debian-archive-keyring  # verifies the Debian archive when CMake fetches Box2D's source
+    ccache                  # every build compiles through it (scripts/lib/build.sh)
 )
 clang_omp=(
     clang-14                # race checker and fuzzer
@@ -71,7 +72,7 @@ packages_for() {
             ;;
         deb) echo debhelper dpkg-dev lintian ;;
         deb-check) echo "${xvfb[@]}" ;;
-        arm64) echo g++-aarch64-linux-gnu qemu-user abigail-tools ccache ;;
+        arm64) echo g++-aarch64-linux-gnu qemu-user abigail-tools ;;
         *) return 1 ;;
     esac
 }

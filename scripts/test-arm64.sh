@@ -12,15 +12,13 @@
 # (QUADPHASE_DETERMINISM_STEPS, as scripts/race-check.sh does): at 600 it alone takes about 6 CPU minutes under qemu.
 #
 # Environment: as scripts/test.sh (QUADPHASE_SKIP_DEPS, JOBS, QUADPHASE_BOX2D_SOURCE_DIR, QUADPHASE_BOX2D_TARBALL);
-# BUILD_DIR (default build-arm64). Compiles through ccache when it is installed. Extra arguments are passed to the
-# CMake configure step. Prints ctest's summary line last; exits with ctest's status.
+# BUILD_DIR (default build-arm64). Compiles through ccache when it is installed (scripts/lib/build.sh). Extra
+# arguments are passed to the CMake configure step. Prints ctest's summary line last; exits with ctest's status.
 source "$(dirname "${BASH_SOURCE[0]}")/lib/build.sh"
 qp_deps scripts/install-deps.sh --for arm64
 build_dir=${BUILD_DIR:-build-arm64}
-launcher=()
-command -v ccache >/dev/null 2>&1 && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 qp_configure "$build_dir" -DCMAKE_TOOLCHAIN_FILE=cmake/toolchains/aarch64-linux-gnu.cmake -DCMAKE_BUILD_TYPE=Release \
-    -DQUADPHASE_BUILD_BENCH=OFF -DQUADPHASE_PACKAGE_TESTS=OFF -DQUADPHASE_INSTALL=OFF "${launcher[@]}" "$@"
+    -DQUADPHASE_BUILD_BENCH=OFF -DQUADPHASE_PACKAGE_TESTS=OFF -DQUADPHASE_INSTALL=OFF "$@"
 qp_build "$build_dir"
 
 export QUADPHASE_DETERMINISM_STEPS=${QUADPHASE_DETERMINISM_STEPS:-120}

@@ -15,10 +15,25 @@
 #                                 neither is executable
 # With QP_LOG=1, qp_configure and qp_build write DIR/configure.log and DIR/build.log and show only their tails on
 # failure; otherwise their output goes to stderr.
+#
+# Every CMake build configured after sourcing it (its own, Box2D's, the package tests', a game's) compiles through
+# ccache when ccache is installed: CI builds the same sources with the same flags on every push, and several scripts
+# build Box2D again. Paths are hashed relative to the repository (CCACHE_BASEDIR), so a fresh clone elsewhere hits
+# the cache too. QUADPHASE_CCACHE=0 turns it off; a CMAKE_<LANG>_COMPILER_LAUNCHER already set is kept.
 set -euo pipefail
 QP_NAME=$(basename "${BASH_SOURCE[1]:-$0}" .sh)
 QP_JOBS=${JOBS:-$(nproc 2>/dev/null || echo 2)}
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
+
+if [[ "${QUADPHASE_CCACHE:-1}" != 0 ]] && command -v ccache >/dev/null 2>&1; then
+    export CMAKE_C_COMPILER_LAUNCHER=${CMAKE_C_COMPILER_LAUNCHER:-ccache}
+    export CMAKE_CXX_COMPILER_LAUNCHER=${CMAKE_CXX_COMPILER_LAUNCHER:-ccache}
+    export CCACHE_BASEDIR=${CCACHE_BASEDIR:-$PWD}
+    export CCACHE_NOHASHDIR=${CCACHE_NOHASHDIR:-1}  # -g's working directory: not part of the hash
+    # dpkg-buildpackage gives debhelper a scratch HOME; keep the one cache.
+    CCACHE_DIR=${CCACHE_DIR:-$(ccache -k cache_dir 2>/dev/null || true)}
+    [[ -n "$CCACHE_DIR" ]] && export CCACHE_DIR
+fi
 
 qp_deps() {
     if [[ "${QUADPHASE_SKIP_DEPS:-0}" != 1 ]]; then
