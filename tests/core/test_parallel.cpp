@@ -1,5 +1,6 @@
-// Parallel pair generation gives the serial loop's output, pair for pair and in order, at any thread count and
-// under any schedule (and the brute-force reference's set, which the harness checks on every FindPairs).
+// Parallel pair generation gives the serial loop's output, pair for pair and in order, at any thread count, on any
+// executor and under any schedule (and the brute-force reference's set, which the harness checks on every
+// FindPairs).
 #include <algorithm>
 #include <cstdint>
 #include <stdexcept>
@@ -8,6 +9,7 @@
 #include <catch2/catch.hpp>
 
 #include "harness.h"
+#include "quadphase_jobs/job_system.h"
 
 using namespace quadphase;
 using namespace qptest;
@@ -17,10 +19,12 @@ namespace
 
 std::vector<std::vector<Pair>> PairHistory(HarnessSettings s, int threads, Schedule schedule, int chunk,
                                            int64_t& parallelCalls, bool queueMoves = false,
-                                           const TaskSystem& tasks = TaskSystem{})
+                                           const TaskSystem& tasks = TaskSystem{},
+                                           Executor executor = Executor::OpenMP)
 {
     s.queueMoves = queueMoves;
     s.config.taskSystem = tasks;
+    s.config.executor = executor;
     s.config.threads = threads;
     s.config.schedule = schedule;
     s.config.chunk = chunk;
@@ -161,7 +165,9 @@ TEST_CASE("A half-set task system is rejected with a clear error and changes not
     REQUIRE(qt.Validate() == "");
 }
 
-TEST_CASE("Parallel FindPairs equals the serial loop at 1-4 threads under every schedule", "[parallel]")
+TEST_CASE(
+    "Parallel FindPairs equals the serial loop at 1-4 threads, on the pool and under every OpenMP schedule",
+    "[parallel]")
 {
     for (Dist dist : {Dist::Uniform, Dist::LogMixed})
     {
@@ -183,6 +189,11 @@ TEST_CASE("Parallel FindPairs equals the serial loop at 1-4 threads under every 
         const Schedule schedules[] = {Schedule::Static, Schedule::Dynamic, Schedule::Guided, Schedule::Auto};
         for (int threads = 2; threads <= 4; ++threads)
         {
+            CAPTURE(threads);
+            const std::vector<std::vector<Pair>> pool = PairHistory(
+                s, threads, Schedule::Static, 0, parallelCalls, false, TaskSystem{}, Executor::Pool);
+            CHECK(parallelCalls > 0);
+            REQUIRE(pool == serial);
             for (Schedule schedule : schedules)
             {
                 const std::vector<int> chunks =
@@ -241,4 +252,75 @@ TEST_CASE("Queued moves give MoveProxy's pairs, in one order at 1-4 threads", "[
             REQUIRE(queued == reference);
         }
     }
+}
+
+TEST_CASE(
+    "At 16 threads every executor gives the serial loop's output, and so does a job system of 15 workers",
+    "[parallel][executors]")
+{
+    // 16 threads on a machine with fewer cores is oversubscribed: the ranges then run in whatever order the
+    // system schedules the threads, which is what the output must not depend on.
+    for (Dist dist : {Dist::Uniform, Dist::Clustered})
+    {
+        HarnessSettings s = RunSettings(95000u + uint32_t(int(dist)), dist, 2000, 1500);
+        s.validateEvery = 1000;
+        INFO("case: " << Describe(s));
+        int64_t parallelCalls = 0;
+        const std::vector<std::vector<Pair>> serial = PairHistory(s, 1, Schedule::Static, 0, parallelCalls);
+        REQUIRE(parallelCalls == 0);
+        for (bool queueMoves : {false, true})
+        {
+            CAPTURE(queueMoves);
+            const std::vector<std::vector<Pair>> reference =
+                queueMoves ? PairHistory(s, 1, Schedule::Static, 0, parallelCalls, true) : serial;
+            for (Executor executor : {Executor::Pool, Executor::OpenMP})
+            {
+                CAPTURE(int(executor));
+                const std::vector<std::vector<Pair>> parallel = PairHistory(
+                    s, 16, Schedule::Dynamic, 1, parallelCalls, queueMoves, TaskSystem{}, executor);
+                CHECK(parallelCalls > 0);
+                REQUIRE(parallel == reference);
+            }
+            // Waits: the caller leaves every range of a split task to the job system's 14 threads.
+            for (qpjobs::JobSystem::Caller caller :
+                 {qpjobs::JobSystem::Caller::Helps, qpjobs::JobSystem::Caller::Waits})
+            {
+                qpjobs::JobSystem jobs(15, caller);
+                const std::vector<std::vector<Pair>> onJobs =
+                    PairHistory(s, 15, Schedule::Static, 0, parallelCalls, queueMoves, jobs.Tasks());
+                CHECK(parallelCalls > 0);
+                CHECK(jobs.RangesOnPool() > 0);
+                REQUIRE(onJobs == reference);
+            }
+        }
+    }
+}
+
+TEST_CASE("Each executor is chosen through Configure, and switching executors mid-run keeps the pairs",
+          "[parallel][executors]")
+{
+    HarnessSettings s = TaskCase(95100u, 2000);
+    int64_t parallelCalls = 0;
+    const std::vector<std::vector<Pair>> serial = PairHistory(s, 1, Schedule::Static, 0, parallelCalls);
+    REQUIRE(Config{}.executor == Executor::Pool); // the default: threads that sleep between steps
+
+    s.config.threads = 3;
+    s.config.parallelThreshold = 0;
+    Harness h(s);
+    h.Record(true);
+    // Run()'s operations, with the executor switched every 250 of them
+    for (int op = 0; op < s.operations; ++op)
+    {
+        if (op % 250 == 0)
+        {
+            Config c = h.Quadtree().GetConfig();
+            c.executor = (op / 250) % 2 == 0 ? Executor::OpenMP : Executor::Pool;
+            h.Quadtree().Configure(c);
+            REQUIRE(h.Quadtree().GetConfig().executor == c.executor);
+        }
+        h.RandomOperation();
+    }
+    h.FindPairs();
+    CHECK(h.Quadtree().GetStats().parallelCalls > 0);
+    REQUIRE(h.History() == serial);
 }
