@@ -1,10 +1,11 @@
-// Determinism of parallel pair generation: the same scene stepped with any thread count and any OpenMP schedule,
-// or on a game's job system with any worker count, gives bit-identical bodies, because FindPairs hands Box2D the
-// same pairs in the same order.
+// Determinism of parallel pair generation: the same scene stepped with any thread count, on the library's pool or
+// under any OpenMP schedule, or on a game's job system with any worker count, gives bit-identical bodies, because
+// FindPairs hands Box2D the same pairs in the same order.
 #include <catch2/catch.hpp>
 
 #include <cstdint>
 #include <cstdlib>
+#include <thread>
 #include <vector>
 
 #include "quadphase/box2d.h"
@@ -14,6 +15,7 @@
 namespace
 {
 
+using quadphase::Executor;
 using quadphase::Schedule;
 using quadphase::scenes::SceneId;
 
@@ -32,11 +34,13 @@ int StepCount()
 }
 
 RunResult Run(SceneId id, int size, int threads, Schedule schedule, int chunk,
-              const quadphase::TaskSystem& tasks = quadphase::TaskSystem{})
+              const quadphase::TaskSystem& tasks = quadphase::TaskSystem{},
+              Executor executor = Executor::OpenMP, uint32_t seed = 7)
 {
-    quadphase::scenes::Scene scene = quadphase::scenes::BuildScene(id, size, 7);
+    quadphase::scenes::Scene scene = quadphase::scenes::BuildScene(id, size, seed);
     quadphase::Config config = quadphase::GetConfig(*scene.world);
     config.taskSystem = tasks;
+    config.executor = executor;
     config.threads = threads;
     config.schedule = schedule;
     config.chunk = chunk;
@@ -54,7 +58,8 @@ RunResult Run(SceneId id, int size, int threads, Schedule schedule, int chunk,
 
 } // namespace
 
-TEST_CASE("bodies are bit-identical at 1-4 threads under every schedule", "[parallel][determinism]")
+TEST_CASE("bodies are bit-identical at 1-4 threads on the pool and under every OpenMP schedule",
+          "[parallel][determinism]")
 {
     struct Case
     {
@@ -81,6 +86,14 @@ TEST_CASE("bodies are bit-identical at 1-4 threads under every schedule", "[para
                                 {Schedule::Auto, 0, "auto"}};
     for (int threads = 2; threads <= 4; ++threads)
     {
+        {
+            CAPTURE(threads, "pool");
+            const RunResult pool =
+                Run(sceneCase.id, sceneCase.size, threads, Schedule::Static, 0, {}, Executor::Pool);
+            CHECK(pool.parallelCalls > 0);
+            CHECK(pool.pairs == serial.pairs);
+            CHECK((pool.bodies == serial.bodies));
+        }
         for (const Variant& v : variants)
         {
             CAPTURE(threads, v.name);
@@ -129,5 +142,57 @@ TEST_CASE("bodies are bit-identical on a game's job system at 1-4 workers", "[pa
                 }
             }
         }
+    }
+}
+
+TEST_CASE(
+    "bodies are bit-identical at 16 threads on the pool and on OpenMP, and on a job system of 15 workers",
+    "[parallel][determinism][executors]")
+{
+    // On a machine with fewer cores, 16 threads are oversubscribed: the blocks then run in whatever order the
+    // system schedules the threads, which the bodies must not depend on.
+    const SceneId id = GENERATE(SceneId::Rain, SceneId::Particles);
+    CAPTURE(quadphase::scenes::SceneName(id));
+    const RunResult serial = Run(id, 1000, 1, Schedule::Static, 0);
+    REQUIRE(serial.pairs > 0);
+    for (Executor executor : {Executor::Pool, Executor::OpenMP})
+    {
+        CAPTURE(executor == Executor::Pool ? "pool" : "openmp");
+        const RunResult parallel = Run(id, 1000, 16, Schedule::Dynamic, 1, {}, executor);
+        CHECK(parallel.parallelCalls > 0);
+        CHECK(parallel.pairs == serial.pairs);
+        CHECK((parallel.bodies == serial.bodies));
+    }
+    // Waits: the job system's 14 threads run every range of a split task.
+    qpjobs::JobSystem jobs(15, qpjobs::JobSystem::Caller::Waits);
+    const RunResult onJobs = Run(id, 1000, 15, Schedule::Static, 0, jobs.Tasks());
+    CHECK(onJobs.parallelCalls > 0);
+    CHECK(jobs.RangesOnPool() > 0);
+    CHECK(onJobs.pairs == serial.pairs);
+    CHECK((onJobs.bodies == serial.bodies));
+}
+
+TEST_CASE(
+    "two worlds stepped at once from two threads each get their serial bodies, sharing the library's pool",
+    "[parallel][determinism][executors]")
+{
+    // The pool runs one task at a time: whichever world finds it busy searches its blocks on its own thread. Only
+    // the time may depend on which; the bodies may not.
+    const RunResult serialRain = Run(SceneId::Rain, 1000, 1, Schedule::Static, 0, {}, Executor::Pool, 11);
+    const RunResult serialParticles =
+        Run(SceneId::Particles, 1000, 1, Schedule::Static, 0, {}, Executor::Pool, 12);
+    for (int round = 0; round < 2; ++round)
+    {
+        CAPTURE(round);
+        RunResult rain;
+        RunResult particles;
+        std::thread other(
+            [&rain] { rain = Run(SceneId::Rain, 1000, 2, Schedule::Static, 0, {}, Executor::Pool, 11); });
+        particles = Run(SceneId::Particles, 1000, 3, Schedule::Static, 0, {}, Executor::Pool, 12);
+        other.join();
+        CHECK(rain.parallelCalls > 0);
+        CHECK(particles.parallelCalls > 0);
+        CHECK((rain.bodies == serialRain.bodies));
+        CHECK((particles.bodies == serialParticles.bodies));
     }
 }

@@ -1,8 +1,10 @@
-// Which threads the library starts, counted in the process (/proc/self/status). Each test case runs in a process
-// of its own (see CMakeLists.txt), so that no earlier test has started OpenMP's team already.
+// Which threads the library starts, counted in the process (/proc/self/status; the pool's own threads by the name
+// they carry, /proc/self/task/*/comm). Each test case runs in a process of its own (see CMakeLists.txt), so that no
+// earlier test has started a team already.
 #include <catch2/catch.hpp>
 
 #include <cstdint>
+#include <filesystem>
 #include <fstream>
 #include <string>
 
@@ -28,6 +30,20 @@ int ThreadCount()
     }
     FAIL("no Threads: line in /proc/self/status");
     return -1;
+}
+
+// Threads named "quadphase": the library's pool (plugin/core/src/worker_pool.cpp names them, with glibc).
+int PoolThreadCount()
+{
+    int count = 0;
+    for (const auto& task : std::filesystem::directory_iterator("/proc/self/task"))
+    {
+        std::ifstream comm(task.path() / "comm");
+        std::string name;
+        std::getline(comm, name);
+        count += name == "quadphase" ? 1 : 0;
+    }
+    return count;
 }
 
 quadphase::Stats StepScene(quadphase::scenes::Scene& scene, int steps)
@@ -60,19 +76,22 @@ TEST_CASE("with the defaults, a scene under the work threshold starts no thread"
     CHECK(ThreadCount() == before);
 }
 
-TEST_CASE("with the defaults, a large scene starts OpenMP's team when it is built, not in a step",
+TEST_CASE("with the defaults, a large scene starts the library's pool when it is built, not in a step",
           "[threads][warm]")
 {
     const int before = ThreadCount();
     quadphase::scenes::Scene scene = quadphase::scenes::BuildScene(SceneId::Particles, 20000, 1);
     REQUIRE(quadphase::GetConfig(*scene.world).parallelMinProxies <= 20000);
+    REQUIRE(quadphase::GetConfig(*scene.world).executor == quadphase::Executor::Pool);
     const int built = ThreadCount();
-    CHECK(built > before); // started in CreateProxy, between steps
-    StepScene(scene, 30);
-    CHECK(ThreadCount() == built); // no step started one
+    CHECK(built == before + 2);    // OMP_NUM_THREADS=3: the caller and two workers, started in CreateProxy
+    CHECK(PoolThreadCount() == 2); // the pool's, none of OpenMP's
+    const quadphase::Stats stats = StepScene(scene, 30);
+    CHECK(stats.parallelCalls > 0); // the measured choice tried them at least
+    CHECK(ThreadCount() == built);  // no step started one
 }
 
-TEST_CASE("with a game's task system, pair generation starts no OpenMP thread", "[threads][tasks]")
+TEST_CASE("with a game's task system, pair generation starts no thread of its own", "[threads][tasks]")
 {
     // its two pool threads exist before the count; the caller Waits, so the pool surely runs the ranges
     qpjobs::JobSystem jobs(3, qpjobs::JobSystem::Caller::Waits);
@@ -88,15 +107,17 @@ TEST_CASE("with a game's task system, pair generation starts no OpenMP thread", 
     CHECK(ThreadCount() == before);
 }
 
-TEST_CASE("without a task system the same scene does start OpenMP's team", "[threads][openmp]")
+TEST_CASE("on the OpenMP executor the same scene starts OpenMP's team, and no pool", "[threads][openmp]")
 {
-    // The control of the test above: the count does see OpenMP's threads when they are started.
+    // The control of the tests above: the count does see OpenMP's threads when they are started.
     const int before = ThreadCount();
     quadphase::scenes::Scene scene = quadphase::scenes::BuildScene(SceneId::Particles, 4000, 1);
     quadphase::Config config = quadphase::GetConfig(*scene.world);
     config.threads = 3;
+    config.executor = quadphase::Executor::OpenMP;
     quadphase::Configure(*scene.world, config);
     const quadphase::Stats stats = StepScene(scene, 60);
     REQUIRE(stats.parallelCalls > 0);
     CHECK(ThreadCount() > before);
+    CHECK(PoolThreadCount() == 0);
 }
