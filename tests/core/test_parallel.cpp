@@ -36,6 +36,16 @@ std::vector<std::vector<Pair>> PairHistory(HarnessSettings s, int threads, Sched
     return h.History();
 }
 
+// The serial loop's pair history (one thread: no parallel call), the reference of every parallel run.
+std::vector<std::vector<Pair>> SerialHistory(const HarnessSettings& s, bool queueMoves = false)
+{
+    int64_t parallelCalls = 0;
+    std::vector<std::vector<Pair>> history =
+        PairHistory(s, 1, Schedule::Static, 0, parallelCalls, queueMoves);
+    REQUIRE(parallelCalls == 0);
+    return history;
+}
+
 // Task systems that run every range on the calling thread, in an order of their own, or that break the contract.
 struct InlineTasks
 {
@@ -92,9 +102,8 @@ HarnessSettings TaskCase(uint32_t seed, int operations)
 TEST_CASE("A task system's ranges, run in any order, give the serial loop's output", "[parallel][tasks]")
 {
     const HarnessSettings s = TaskCase(94000u, 2500);
+    const std::vector<std::vector<Pair>> serial = SerialHistory(s);
     int64_t parallelCalls = 0;
-    const std::vector<std::vector<Pair>> serial = PairHistory(s, 1, Schedule::Static, 0, parallelCalls);
-    REQUIRE(parallelCalls == 0);
 
     InlineTasks tasks;
     for (int threads : {0, 2, 4})
@@ -116,8 +125,8 @@ TEST_CASE("A task system that skips items or runs items out of range loses no pa
           "[parallel][tasks][errors]")
 {
     const HarnessSettings s = TaskCase(94100u, 1500);
+    const std::vector<std::vector<Pair>> serial = SerialHistory(s);
     int64_t parallelCalls = 0;
-    const std::vector<std::vector<Pair>> serial = PairHistory(s, 1, Schedule::Static, 0, parallelCalls);
     for (InlineTasks::Mode mode : {InlineTasks::Mode::SkipOdd, InlineTasks::Mode::Outside})
     {
         CAPTURE(int(mode));
@@ -176,9 +185,8 @@ TEST_CASE(
         s.validateEvery = 2000;
         INFO("case: " << Describe(s));
 
+        const std::vector<std::vector<Pair>> serial = SerialHistory(s);
         int64_t parallelCalls = 0;
-        const std::vector<std::vector<Pair>> serial = PairHistory(s, 1, Schedule::Static, 0, parallelCalls);
-        REQUIRE(parallelCalls == 0);
         size_t pairs = 0;
         for (const std::vector<Pair>& call : serial)
         {
@@ -265,14 +273,11 @@ TEST_CASE(
         HarnessSettings s = RunSettings(95000u + uint32_t(int(dist)), dist, 2000, 1500);
         s.validateEvery = 1000;
         INFO("case: " << Describe(s));
-        int64_t parallelCalls = 0;
-        const std::vector<std::vector<Pair>> serial = PairHistory(s, 1, Schedule::Static, 0, parallelCalls);
-        REQUIRE(parallelCalls == 0);
         for (bool queueMoves : {false, true})
         {
             CAPTURE(queueMoves);
-            const std::vector<std::vector<Pair>> reference =
-                queueMoves ? PairHistory(s, 1, Schedule::Static, 0, parallelCalls, true) : serial;
+            const std::vector<std::vector<Pair>> reference = SerialHistory(s, queueMoves);
+            int64_t parallelCalls = 0;
             for (Executor executor : {Executor::Pool, Executor::OpenMP})
             {
                 CAPTURE(int(executor));
@@ -300,8 +305,7 @@ TEST_CASE("Each executor is chosen through Configure, and switching executors mi
           "[parallel][executors]")
 {
     HarnessSettings s = TaskCase(95100u, 2000);
-    int64_t parallelCalls = 0;
-    const std::vector<std::vector<Pair>> serial = PairHistory(s, 1, Schedule::Static, 0, parallelCalls);
+    const std::vector<std::vector<Pair>> serial = SerialHistory(s);
     REQUIRE(Config{}.executor == Executor::Pool); // the default: threads that sleep between steps
 
     s.config.threads = 3;

@@ -1,21 +1,14 @@
 // The library's worker pool (plugin/core/src/worker_pool.h): every item once, on the caller and the pool's threads;
-// a second caller runs its own task while the pool is busy; threads shared by every broadphase and joined when the
-// last one goes.
-#include <algorithm>
+// a second caller runs its own task while the pool is busy. (That worlds share its threads and that the last one
+// destroyed ends them: tests/parallel/threads_test.cpp, which counts the process's threads.)
 #include <atomic>
 #include <chrono>
-#include <cstdint>
-#include <filesystem>
-#include <fstream>
 #include <memory>
-#include <string>
 #include <thread>
 #include <vector>
 
 #include <catch2/catch.hpp>
 
-#include "quadphase/quadtree_broad_phase.h"
-#include "test_support.h"
 #include "worker_pool.h"
 
 using namespace quadphase;
@@ -23,38 +16,6 @@ using quadphase::detail::WorkerPool;
 
 namespace
 {
-
-// The pool's threads, by the name they give themselves (glibc), or -1 where the system cannot say.
-int PoolThreadsRunning()
-{
-#if defined(__linux__) && defined(__GLIBC__)
-    int count = 0;
-    for (const auto& task : std::filesystem::directory_iterator("/proc/self/task"))
-    {
-        std::ifstream comm(task.path() / "comm");
-        std::string name;
-        std::getline(comm, name);
-        count += name == "quadphase" ? 1 : 0;
-    }
-    return count;
-#else
-    return -1;
-#endif
-}
-
-// PoolThreadsRunning() once it equals `expected`, or after 5 s: a joined thread leaves /proc/self/task a moment
-// after pthread_join returns.
-int PoolThreadsOnceSettled(int expected)
-{
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
-    int running = PoolThreadsRunning();
-    while (running != expected && std::chrono::steady_clock::now() < deadline)
-    {
-        std::this_thread::sleep_for(std::chrono::milliseconds(1));
-        running = PoolThreadsRunning();
-    }
-    return running;
-}
 
 // Runs one task through the TaskSystem callbacks, as FindPairs does.
 void RunTask(const TaskSystem& tasks, TaskCallback* task, int items, void* context)
@@ -205,71 +166,4 @@ TEST_CASE("A caller that finds the pool busy runs its whole task on its own thre
     CountingTask after(50, 3, true);
     RunTask(system, &CountingTask::Run, 50, &after);
     CHECK(after.OnWorkers() > 0);
-}
-
-TEST_CASE("Broadphases share one pool, and its threads end with the last broadphase that holds it",
-          "[worker_pool]")
-{
-    if (PoolThreadsRunning() < 0)
-    {
-        WARN("the pool's threads cannot be counted on this system: skipped");
-        return;
-    }
-    REQUIRE(PoolThreadsOnceSettled(0) == 0); // the earlier test cases' pools are gone with their holders
-
-    Config config;
-    config.threads = 4;
-    config.parallelThreshold = 0;
-    qptest::Rng rng(96000u);
-    std::vector<Box> boxes;
-    for (int i = 0; i < 600; ++i)
-    {
-        const float x = qptest::Uniform(rng, 0.0f, 40.0f);
-        const float y = qptest::Uniform(rng, 0.0f, 40.0f);
-        boxes.push_back(Box{x, y, x + 1.5f, y + 1.5f});
-    }
-    auto pairsOf = [&boxes](const Config& c) {
-        QuadtreeBroadPhase qt(FatPolicy{}, c);
-        for (const Box& b : boxes)
-        {
-            qt.CreateProxy(b, nullptr);
-        }
-        std::vector<Pair> pairs;
-        qt.FindPairs(pairs);
-        return pairs;
-    };
-    Config serial = config;
-    serial.threads = 1;
-    const std::vector<Pair> expected = pairsOf(serial);
-    REQUIRE(expected.size() > 100);
-    CHECK(PoolThreadsRunning() == 0); // one thread starts none
-
-    for (int round = 0; round < 40; ++round)
-    {
-        CAPTURE(round);
-        {
-            // Two at once: the threads are the pool's, not each broadphase's.
-            QuadtreeBroadPhase a(FatPolicy{}, config);
-            QuadtreeBroadPhase b(FatPolicy{}, config);
-            REQUIRE(PoolThreadsRunning() == 3);
-            for (const Box& box : boxes)
-            {
-                a.CreateProxy(box, nullptr);
-                b.CreateProxy(box, nullptr);
-            }
-            std::vector<Pair> pairsA;
-            std::vector<Pair> pairsB;
-            a.FindPairs(pairsA);
-            b.FindPairs(pairsB);
-            REQUIRE(pairsA == expected);
-            REQUIRE(pairsB == expected);
-            REQUIRE(a.GetStats().parallelCalls == 1);
-            // A broadphase that goes over to OpenMP lets go of the pool; the other still holds it.
-            Config openmp = config;
-            openmp.executor = Executor::OpenMP;
-            a.Configure(openmp);
-            REQUIRE(PoolThreadsRunning() == 3);
-        }
-        REQUIRE(PoolThreadsOnceSettled(0) == 0);
-    }
 }

@@ -3,10 +3,12 @@
 // earlier test has started a team already.
 #include <catch2/catch.hpp>
 
+#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <thread>
 
 #include "quadphase/box2d.h"
 #include "quadphase_jobs/job_system.h"
@@ -42,6 +44,20 @@ int PoolThreadCount()
         std::string name;
         std::getline(comm, name);
         count += name == "quadphase" ? 1 : 0;
+    }
+    return count;
+}
+
+// PoolThreadCount() once it equals `expected`, or after 5 s: a joined thread leaves /proc/self/task a moment after
+// pthread_join returns.
+int PoolThreadCountOnceSettled(int expected)
+{
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+    int count = PoolThreadCount();
+    while (count != expected && std::chrono::steady_clock::now() < deadline)
+    {
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        count = PoolThreadCount();
     }
     return count;
 }
@@ -120,4 +136,34 @@ TEST_CASE("on the OpenMP executor the same scene starts OpenMP's team, and no po
     REQUIRE(stats.parallelCalls > 0);
     CHECK(ThreadCount() > before);
     CHECK(PoolThreadCount() == 0);
+}
+
+TEST_CASE("worlds share the pool's threads, and the last world destroyed ends them", "[threads][teardown]")
+{
+    REQUIRE(PoolThreadCount() == 0);
+    for (int round = 0; round < 20; ++round)
+    {
+        CAPTURE(round);
+        {
+            // Two worlds, each asking for 4 threads: the process gets 3 workers (the callers are the fourth), not 6.
+            quadphase::scenes::Scene a =
+                quadphase::scenes::BuildScene(SceneId::Particles, 2000, uint32_t(round));
+            quadphase::scenes::Scene b = quadphase::scenes::BuildScene(SceneId::Rain, 2000, uint32_t(round));
+            for (quadphase::scenes::Scene* scene : {&a, &b})
+            {
+                quadphase::Config config = quadphase::GetConfig(*scene->world);
+                config.threads = 4;
+                quadphase::Configure(*scene->world, config);
+            }
+            REQUIRE(PoolThreadCount() == 3);
+            CHECK(StepScene(a, 5).parallelCalls > 0);
+            CHECK(StepScene(b, 5).parallelCalls > 0);
+            // A world that goes over to OpenMP lets go of the pool; the other one still holds it.
+            quadphase::Config openmp = quadphase::GetConfig(*a.world);
+            openmp.executor = quadphase::Executor::OpenMP;
+            quadphase::Configure(*a.world, openmp);
+            CHECK(PoolThreadCount() == 3);
+        }
+        REQUIRE(PoolThreadCountOnceSettled(0) == 0);
+    }
 }
