@@ -106,7 +106,7 @@ write_basic_package_version_file(
 file(RELATIVE_PATH _box2d_pc_to_prefix "/p/${CMAKE_INSTALL_LIBDIR}/pkgconfig" "/p")
 string(REGEX REPLACE "/$" "" _box2d_pc_to_prefix "${_box2d_pc_to_prefix}")
 set(QUADPHASE_PC_PREFIX "\${pcfiledir}/${_box2d_pc_to_prefix}")
-set(QUADPHASE_PC_LIBS_PRIVATE "${QUADPHASE_OPENMP_PC_LIBS}") # the quadtree's pair search runs on OpenMP (if built so)
+set(QUADPHASE_PC_LIBS_PRIVATE "${QUADPHASE_PC_LIBS}") # OpenMP (if built with it) and the pool's threads
 configure_file("${PROJECT_SOURCE_DIR}/cmake/box2d.pc.in" "${PROJECT_BINARY_DIR}/box2d-package/quadphase/box2d.pc" @ONLY)
 set(QUADPHASE_PC_LIBS_PRIVATE "")
 configure_file("${PROJECT_SOURCE_DIR}/cmake/box2d.pc.in" "${PROJECT_BINARY_DIR}/box2d-package/stock/box2d.pc" @ONLY)

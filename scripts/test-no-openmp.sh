@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
 # The test suite as Apple's default toolchain would build it: clang-14 with LLVM's libc++ and no OpenMP
-# (-DCMAKE_DISABLE_FIND_PACKAGE_OpenMP=TRUE, so QUADPHASE_OPENMP is OFF). Pair generation then runs serially, or
-# in parallel on a game's TaskSystem (tests/parallel, examples/job_system); Config::threads > 1 falls back to serial
-# as its declaration says (tests/core [fallback]). Every test runs, Box2D's own unit tests against both builds
-# included, except:
+# (-DCMAKE_DISABLE_FIND_PACKAGE_OpenMP=TRUE, so QUADPHASE_OPENMP is OFF). Pair generation then runs in parallel on
+# the library's own pool (the default executor, plain std::thread) or a game's TaskSystem (tests/parallel,
+# examples/job_system); only Executor::OpenMP falls back to serial, as Config::threads says (tests/core
+# [fallback]). Every test runs, Box2D's own unit tests against both builds included, except:
 #   - the cases of OpenMP's schedules and team ([openmp] in quadphase_core_tests and parallel_determinism,
-#     parallel_threads_warm and _openmp): tests/ leaves them out in a build without OpenMP;
+#     parallel_threads_openmp, parallel_spin_openmp): tests/ leaves them out in a build without OpenMP;
 #   - package_add_subdirectory: it compiles Box2D a third time to test CMake packaging, which package_find_package
 #     tests here already (with the installed libbox2d.so needing no OpenMP runtime);
 #   - the benchmarks (bench/ needs OpenMP).

@@ -245,8 +245,8 @@ options:
                         stock: untouched Box2D 2.4.1 (no quadtree, so no overlay)
   --threads N           quadtree only: pair-generation threads, 0..256 (quadphase::Config::threads; 1: no
                         thread is started). Without it the world keeps the library's default, 0: up to
-                        OpenMP's thread count, but parallel only in scenes of 16,384 proxies or more and
-                        only while parallel calls measure faster than serial ones
+                        OMP_NUM_THREADS, else the cores, but parallel only in scenes of 16,384 proxies or
+                        more and only while parallel calls measure faster than serial ones
   --png DIR             write frames DIR/frame_00000.png, ... (DIR is created if missing); the first
                         frame shows the world before the first step
   --every N             with --png: a frame every N steps (default 10)

@@ -204,6 +204,7 @@ TEST_CASE("Configure that changes only the executor rebuilds nothing: the pairs 
             untouched.Run();
             Config c = configured.Quadtree().GetConfig();
             c.threads = 1 + (round % 3);
+            c.executor = round % 2 == 0 ? Executor::Pool : Executor::OpenMP;
             c.schedule = round % 2 == 0 ? Schedule::Static : Schedule::Dynamic;
             c.chunk = round;
             c.parallelThreshold = round % 2 == 0 ? 0 : 128;
@@ -212,6 +213,7 @@ TEST_CASE("Configure that changes only the executor rebuilds nothing: the pairs 
             configured.Quadtree().Configure(c);
             REQUIRE(configured.Quadtree().GetStats().rebuilds == rebuilds);
             REQUIRE(configured.Quadtree().GetConfig().threads == c.threads);
+            REQUIRE(configured.Quadtree().GetConfig().executor == c.executor);
             REQUIRE(configured.Quadtree().Validate() == "");
         }
         REQUIRE(configured.History().size() == untouched.History().size());

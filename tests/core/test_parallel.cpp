@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// Parallel pair generation gives the serial loop's output, pair for pair and in order, at any thread count and
-// under any schedule (and the brute-force reference's set, which the harness checks on every FindPairs).
+// Parallel pair generation gives the serial loop's output, pair for pair and in order, at any thread count, on any
+// executor and under any schedule (and the brute-force reference's set, which the harness checks on every
+// FindPairs).
 #include <algorithm>
 #include <cstdint>
 #include <stdexcept>
@@ -9,6 +10,7 @@
 #include <catch2/catch.hpp>
 
 #include "harness.h"
+#include "quadphase_jobs/job_system.h"
 
 using namespace quadphase;
 using namespace qptest;
@@ -18,10 +20,12 @@ namespace
 
 std::vector<std::vector<Pair>> PairHistory(HarnessSettings s, int threads, Schedule schedule, int chunk,
                                            int64_t& parallelCalls, bool queueMoves = false,
-                                           const TaskSystem& tasks = TaskSystem{})
+                                           const TaskSystem& tasks = TaskSystem{},
+                                           Executor executor = Executor::Pool)
 {
     s.queueMoves = queueMoves;
     s.config.taskSystem = tasks;
+    s.config.executor = executor;
     s.config.threads = threads;
     s.config.schedule = schedule;
     s.config.chunk = chunk;
@@ -31,6 +35,16 @@ std::vector<std::vector<Pair>> PairHistory(HarnessSettings s, int threads, Sched
     h.Run();
     parallelCalls = h.Quadtree().GetStats().parallelCalls;
     return h.History();
+}
+
+// The serial loop's pair history (one thread: no parallel call), the reference of every parallel run.
+std::vector<std::vector<Pair>> SerialHistory(const HarnessSettings& s, bool queueMoves = false)
+{
+    int64_t parallelCalls = 0;
+    std::vector<std::vector<Pair>> history =
+        PairHistory(s, 1, Schedule::Static, 0, parallelCalls, queueMoves);
+    REQUIRE(parallelCalls == 0);
+    return history;
 }
 
 // Task systems that run every range on the calling thread, in an order of their own, or that break the contract.
@@ -84,14 +98,39 @@ HarnessSettings TaskCase(uint32_t seed, int operations)
     return s;
 }
 
+// Calls check(settings, serial history, threads) at 2-4 threads on two cases of 800 proxies (several blocks of 64
+// buffered proxies per FindPairs), whose serial loop finds more than 1000 pairs.
+template <typename Check>
+void ForThreadCounts(Check check)
+{
+    for (Dist dist : {Dist::Uniform, Dist::LogMixed})
+    {
+        HarnessSettings s = RunSettings(91000u + uint32_t(int(dist)), dist, 800, 2500);
+        s.validateEvery = 2000;
+        INFO("case: " << Describe(s));
+
+        const std::vector<std::vector<Pair>> serial = SerialHistory(s);
+        size_t pairs = 0;
+        for (const std::vector<Pair>& call : serial)
+        {
+            pairs += call.size();
+        }
+        REQUIRE(pairs > 1000);
+        for (int threads = 2; threads <= 4; ++threads)
+        {
+            CAPTURE(threads);
+            check(s, serial, threads);
+        }
+    }
+}
+
 } // namespace
 
 TEST_CASE("A task system's ranges, run in any order, give the serial loop's output", "[parallel][tasks]")
 {
     const HarnessSettings s = TaskCase(94000u, 2500);
+    const std::vector<std::vector<Pair>> serial = SerialHistory(s);
     int64_t parallelCalls = 0;
-    const std::vector<std::vector<Pair>> serial = PairHistory(s, 1, Schedule::Static, 0, parallelCalls);
-    REQUIRE(parallelCalls == 0);
 
     InlineTasks tasks;
     for (int threads : {0, 2, 4})
@@ -113,8 +152,8 @@ TEST_CASE("A task system that skips items or runs items out of range loses no pa
           "[parallel][tasks][errors]")
 {
     const HarnessSettings s = TaskCase(94100u, 1500);
+    const std::vector<std::vector<Pair>> serial = SerialHistory(s);
     int64_t parallelCalls = 0;
-    const std::vector<std::vector<Pair>> serial = PairHistory(s, 1, Schedule::Static, 0, parallelCalls);
     for (InlineTasks::Mode mode : {InlineTasks::Mode::SkipOdd, InlineTasks::Mode::Outside})
     {
         CAPTURE(int(mode));
@@ -140,32 +179,29 @@ TEST_CASE("A task system that skips items or runs items out of range loses no pa
 
 // The documented fallback of Config::threads: the build's CMake says whether it was built with OpenMP
 // (QUADPHASE_TEST_OPENMP), so that a build which lost OpenMP unnoticed fails here instead of running serially.
-TEST_CASE(
-    "threads > 1 without a task system runs on OpenMP, or serially and unreported in a build without it",
-    "[parallel][fallback]")
+TEST_CASE("threads > 1 without a task system runs on the pool in every build, and on OpenMP or, in a build "
+          "without it, serially and unreported",
+          "[parallel][fallback]")
 {
     REQUIRE(OpenMPAvailable() == bool(QUADPHASE_TEST_OPENMP));
     const HarnessSettings s = TaskCase(94200u, 1500);
-    int64_t parallelCalls = 0;
-    const std::vector<std::vector<Pair>> serial = PairHistory(s, 1, Schedule::Static, 0, parallelCalls);
-
-    ErrorCounter errors;
-    HarnessSettings four = s;
-    four.config.threads = 4;
-    four.config.parallelThreshold = 0;
-    Harness h(four);
-    h.Record(true);
-    h.Run();
-    REQUIRE(h.History() == serial);
-    CHECK(h.Quadtree().GetConfig().threads == 4); // kept as given, in either build
-    CHECK(errors.Total() == 0);
-    if (OpenMPAvailable())
+    const std::vector<std::vector<Pair>> serial = SerialHistory(s);
+    for (Executor executor : {Executor::Pool, Executor::OpenMP})
     {
-        CHECK(h.Quadtree().GetStats().parallelCalls > 0);
-    }
-    else
-    {
-        CHECK(h.Quadtree().GetStats().parallelCalls == 0);
+        CAPTURE(int(executor));
+        ErrorCounter errors;
+        HarnessSettings four = s;
+        four.config.executor = executor;
+        four.config.threads = 4;
+        four.config.parallelThreshold = 0;
+        Harness h(four);
+        h.Record(true);
+        h.Run();
+        REQUIRE(h.History() == serial);
+        CHECK(h.Quadtree().GetConfig().threads == 4); // kept as given, in either build
+        CHECK(errors.Total() == 0);
+        const bool parallel = executor == Executor::Pool || OpenMPAvailable();
+        CHECK((h.Quadtree().GetStats().parallelCalls > 0) == parallel);
     }
 }
 
@@ -193,44 +229,37 @@ TEST_CASE("A half-set task system is rejected with a clear error and changes not
     REQUIRE(qt.Validate() == "");
 }
 
-TEST_CASE("Parallel FindPairs equals the serial loop at 1-4 threads under every schedule",
+TEST_CASE("Parallel FindPairs equals the serial loop at 1-4 threads on the pool", "[parallel]")
+{
+    ForThreadCounts([](const HarnessSettings& s, const std::vector<std::vector<Pair>>& serial, int threads) {
+        int64_t parallelCalls = 0;
+        const std::vector<std::vector<Pair>> pool =
+            PairHistory(s, threads, Schedule::Static, 0, parallelCalls, false, TaskSystem{}, Executor::Pool);
+        CHECK(parallelCalls > 0);
+        REQUIRE(pool == serial);
+    });
+}
+
+TEST_CASE("Parallel FindPairs equals the serial loop at 1-4 threads under every OpenMP schedule",
           "[parallel][openmp]")
 {
-    for (Dist dist : {Dist::Uniform, Dist::LogMixed})
-    {
-        // 800 proxies: several blocks of 64 buffered proxies per FindPairs
-        HarnessSettings s = RunSettings(91000u + uint32_t(int(dist)), dist, 800, 2500);
-        s.validateEvery = 2000;
-        INFO("case: " << Describe(s));
-
-        int64_t parallelCalls = 0;
-        const std::vector<std::vector<Pair>> serial = PairHistory(s, 1, Schedule::Static, 0, parallelCalls);
-        REQUIRE(parallelCalls == 0);
-        size_t pairs = 0;
-        for (const std::vector<Pair>& call : serial)
-        {
-            pairs += call.size();
-        }
-        REQUIRE(pairs > 1000);
-
+    ForThreadCounts([](const HarnessSettings& s, const std::vector<std::vector<Pair>>& serial, int threads) {
         const Schedule schedules[] = {Schedule::Static, Schedule::Dynamic, Schedule::Guided, Schedule::Auto};
-        for (int threads = 2; threads <= 4; ++threads)
+        for (Schedule schedule : schedules)
         {
-            for (Schedule schedule : schedules)
+            const std::vector<int> chunks =
+                schedule == Schedule::Dynamic ? std::vector<int>{0, 1} : std::vector<int>{0};
+            for (int chunk : chunks)
             {
-                const std::vector<int> chunks =
-                    schedule == Schedule::Dynamic ? std::vector<int>{0, 1} : std::vector<int>{0};
-                for (int chunk : chunks)
-                {
-                    CAPTURE(threads, int(schedule), chunk);
-                    const std::vector<std::vector<Pair>> parallel =
-                        PairHistory(s, threads, schedule, chunk, parallelCalls);
-                    CHECK(parallelCalls > 0);
-                    REQUIRE(parallel == serial);
-                }
+                CAPTURE(int(schedule), chunk);
+                int64_t parallelCalls = 0;
+                const std::vector<std::vector<Pair>> parallel = PairHistory(
+                    s, threads, schedule, chunk, parallelCalls, false, TaskSystem{}, Executor::OpenMP);
+                CHECK(parallelCalls > 0);
+                REQUIRE(parallel == serial);
             }
         }
-    }
+    });
 }
 
 TEST_CASE("Queued moves give MoveProxy's pairs, in one order at 1-4 threads", "[parallel]")
@@ -274,4 +303,77 @@ TEST_CASE("Queued moves give MoveProxy's pairs, in one order at 1-4 threads", "[
             REQUIRE(queued == reference);
         }
     }
+}
+
+TEST_CASE(
+    "At 16 threads every executor gives the serial loop's output, and so does a job system of 15 workers",
+    "[parallel][executors][concurrent]")
+{
+    // 16 threads on a machine with fewer cores is oversubscribed: the ranges then run in whatever order the
+    // system schedules the threads, which is what the output must not depend on.
+    for (Dist dist : {Dist::Uniform, Dist::Clustered})
+    {
+        HarnessSettings s = RunSettings(95000u + uint32_t(int(dist)), dist, 2000, 1500);
+        s.validateEvery = 1000;
+        INFO("case: " << Describe(s));
+        for (bool queueMoves : {false, true})
+        {
+            CAPTURE(queueMoves);
+            const std::vector<std::vector<Pair>> reference = SerialHistory(s, queueMoves);
+            int64_t parallelCalls = 0;
+            // OpenMP where the build has it ([fallback] checks that it has what its CMake says).
+            std::vector<Executor> executors{Executor::Pool};
+            if (OpenMPAvailable())
+            {
+                executors.push_back(Executor::OpenMP);
+            }
+            for (Executor executor : executors)
+            {
+                CAPTURE(int(executor));
+                const std::vector<std::vector<Pair>> parallel = PairHistory(
+                    s, 16, Schedule::Dynamic, 1, parallelCalls, queueMoves, TaskSystem{}, executor);
+                CHECK(parallelCalls > 0);
+                REQUIRE(parallel == reference);
+            }
+            // Waits: the caller leaves every range of a split task to the job system's 14 threads.
+            for (qpjobs::JobSystem::Caller caller :
+                 {qpjobs::JobSystem::Caller::Helps, qpjobs::JobSystem::Caller::Waits})
+            {
+                qpjobs::JobSystem jobs(15, caller);
+                const std::vector<std::vector<Pair>> onJobs =
+                    PairHistory(s, 15, Schedule::Static, 0, parallelCalls, queueMoves, jobs.Tasks());
+                CHECK(parallelCalls > 0);
+                CHECK(jobs.RangesOnPool() > 0);
+                REQUIRE(onJobs == reference);
+            }
+        }
+    }
+}
+
+TEST_CASE("Each executor is chosen through Configure, and switching executors mid-run keeps the pairs",
+          "[parallel][executors]")
+{
+    HarnessSettings s = TaskCase(95100u, 2000);
+    const std::vector<std::vector<Pair>> serial = SerialHistory(s);
+    REQUIRE(Config{}.executor == Executor::Pool); // the default: threads that sleep between steps
+
+    s.config.threads = 3;
+    s.config.parallelThreshold = 0;
+    Harness h(s);
+    h.Record(true);
+    // Run()'s operations, with the executor switched every 250 of them
+    for (int op = 0; op < s.operations; ++op)
+    {
+        if (op % 250 == 0)
+        {
+            Config c = h.Quadtree().GetConfig();
+            c.executor = (op / 250) % 2 == 0 ? Executor::OpenMP : Executor::Pool;
+            h.Quadtree().Configure(c);
+            REQUIRE(h.Quadtree().GetConfig().executor == c.executor);
+        }
+        h.RandomOperation();
+    }
+    h.FindPairs();
+    CHECK(h.Quadtree().GetStats().parallelCalls > 0);
+    REQUIRE(h.History() == serial);
 }

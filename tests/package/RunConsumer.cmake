@@ -12,7 +12,7 @@
 #   BOX2D_SRC            Box2D source root to reuse (add_subdirectory mode)
 #   GENERATOR, CXX_COMPILER, CXX_FLAGS_RELEASE, JOBS
 #   CXX_FLAGS, EXE_LINKER_FLAGS  the build's own (e.g. -stdlib=libc++): the consumers are compiled with them too
-#   OPENMP, OPENMP_PC_LIBS       QUADPHASE_OPENMP and the OpenMP runtime it gives box2d.pc's Libs.private
+#   OPENMP, PC_LIBS              QUADPHASE_OPENMP, and box2d.pc's expected Libs.private (OpenMP's runtime, threads)
 #                                (find_package: the installed libbox2d.so needs an OpenMP runtime exactly when ON)
 
 cmake_minimum_required(VERSION 3.20)
@@ -107,8 +107,8 @@ if(MODE STREQUAL "find_package")
         elseif(NOT OPENMP AND needs_omp)
             message(FATAL_ERROR "[${MODE}] built without OpenMP, but libbox2d.so.2.4.1 needs one: ${needs_omp}")
         endif()
-        if(NOT libs_private STREQUAL "${OPENMP_PC_LIBS}")
-            message(FATAL_ERROR "[${MODE}] box2d.pc's Libs.private is '${libs_private}', expected '${OPENMP_PC_LIBS}'")
+        if(NOT libs_private STREQUAL "${PC_LIBS}")
+            message(FATAL_ERROR "[${MODE}] box2d.pc's Libs.private is '${libs_private}', expected '${PC_LIBS}'")
         endif()
         message(STATUS "[${MODE}] OpenMP ${OPENMP}: libbox2d.so.2.4.1 needs '${needs_omp}', box2d.pc's "
                        "Libs.private '${libs_private}'")

@@ -1,11 +1,15 @@
 // SPDX-License-Identifier: MIT
-// Which threads the library starts, counted in the process (/proc/self/status). Each test case runs in a process
-// of its own (see CMakeLists.txt), so that no earlier test has started OpenMP's team already.
+// Which threads the library starts, counted in the process (/proc/self/status; the pool's own threads by the name
+// they carry, /proc/self/task/*/comm). Each test case runs in a process of its own (see CMakeLists.txt), so that no
+// earlier test has started a team already.
 #include <catch2/catch.hpp>
 
+#include <chrono>
 #include <cstdint>
+#include <filesystem>
 #include <fstream>
 #include <string>
+#include <thread>
 
 #include "quadphase/box2d.h"
 #include "quadphase_jobs/job_system.h"
@@ -29,6 +33,34 @@ int ThreadCount()
     }
     FAIL("no Threads: line in /proc/self/status");
     return -1;
+}
+
+// Threads named "quadphase": the library's pool (plugin/core/src/worker_pool.cpp names them, with glibc).
+int PoolThreadCount()
+{
+    int count = 0;
+    for (const auto& task : std::filesystem::directory_iterator("/proc/self/task"))
+    {
+        std::ifstream comm(task.path() / "comm");
+        std::string name;
+        std::getline(comm, name);
+        count += name == "quadphase" ? 1 : 0;
+    }
+    return count;
+}
+
+// PoolThreadCount() once it equals `expected`, or after 5 s: a joined thread leaves /proc/self/task a moment after
+// pthread_join returns.
+int PoolThreadCountOnceSettled(int expected)
+{
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+    int count = PoolThreadCount();
+    while (count != expected && std::chrono::steady_clock::now() < deadline)
+    {
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        count = PoolThreadCount();
+    }
+    return count;
 }
 
 quadphase::Stats StepScene(quadphase::scenes::Scene& scene, int steps)
@@ -61,19 +93,22 @@ TEST_CASE("with the defaults, a scene under the work threshold starts no thread"
     CHECK(ThreadCount() == before);
 }
 
-TEST_CASE("with the defaults, a large scene starts OpenMP's team when it is built, not in a step",
+TEST_CASE("with the defaults, a large scene starts the library's pool when it is built, not in a step",
           "[threads][warm]")
 {
     const int before = ThreadCount();
     quadphase::scenes::Scene scene = quadphase::scenes::BuildScene(SceneId::Particles, 20000, 1);
     REQUIRE(quadphase::GetConfig(*scene.world).parallelMinProxies <= 20000);
+    REQUIRE(quadphase::GetConfig(*scene.world).executor == quadphase::Executor::Pool);
     const int built = ThreadCount();
-    CHECK(built > before); // started in CreateProxy, between steps
-    StepScene(scene, 30);
-    CHECK(ThreadCount() == built); // no step started one
+    CHECK(built == before + 2);    // OMP_NUM_THREADS=3: the caller and two workers, started in CreateProxy
+    CHECK(PoolThreadCount() == 2); // the pool's, none of OpenMP's
+    const quadphase::Stats stats = StepScene(scene, 30);
+    CHECK(stats.parallelCalls > 0); // the measured choice tried them at least
+    CHECK(ThreadCount() == built);  // no step started one
 }
 
-TEST_CASE("with a game's task system, pair generation starts no OpenMP thread", "[threads][tasks]")
+TEST_CASE("with a game's task system, pair generation starts no thread of its own", "[threads][tasks]")
 {
     // its two pool threads exist before the count; the caller Waits, so the pool surely runs the ranges
     qpjobs::JobSystem jobs(3, qpjobs::JobSystem::Caller::Waits);
@@ -89,15 +124,47 @@ TEST_CASE("with a game's task system, pair generation starts no OpenMP thread", 
     CHECK(ThreadCount() == before);
 }
 
-TEST_CASE("without a task system the same scene does start OpenMP's team", "[threads][openmp]")
+TEST_CASE("on the OpenMP executor the same scene starts OpenMP's team, and no pool", "[threads][openmp]")
 {
-    // The control of the test above: the count does see OpenMP's threads when they are started.
+    // The control of the tests above: the count does see OpenMP's threads when they are started.
     const int before = ThreadCount();
     quadphase::scenes::Scene scene = quadphase::scenes::BuildScene(SceneId::Particles, 4000, 1);
     quadphase::Config config = quadphase::GetConfig(*scene.world);
     config.threads = 3;
+    config.executor = quadphase::Executor::OpenMP;
     quadphase::Configure(*scene.world, config);
     const quadphase::Stats stats = StepScene(scene, 60);
     REQUIRE(stats.parallelCalls > 0);
     CHECK(ThreadCount() > before);
+    CHECK(PoolThreadCount() == 0);
+}
+
+TEST_CASE("worlds share the pool's threads, and the last world destroyed ends them", "[threads][teardown]")
+{
+    REQUIRE(PoolThreadCount() == 0);
+    for (int round = 0; round < 20; ++round)
+    {
+        CAPTURE(round);
+        {
+            // Two worlds, each asking for 4 threads: the process gets 3 workers (the callers are the fourth), not 6.
+            quadphase::scenes::Scene a =
+                quadphase::scenes::BuildScene(SceneId::Particles, 2000, uint32_t(round));
+            quadphase::scenes::Scene b = quadphase::scenes::BuildScene(SceneId::Rain, 2000, uint32_t(round));
+            for (quadphase::scenes::Scene* scene : {&a, &b})
+            {
+                quadphase::Config config = quadphase::GetConfig(*scene->world);
+                config.threads = 4;
+                quadphase::Configure(*scene->world, config);
+            }
+            REQUIRE(PoolThreadCount() == 3);
+            CHECK(StepScene(a, 5).parallelCalls > 0);
+            CHECK(StepScene(b, 5).parallelCalls > 0);
+            // A world that goes over to OpenMP lets go of the pool; the other one still holds it.
+            quadphase::Config openmp = quadphase::GetConfig(*a.world);
+            openmp.executor = quadphase::Executor::OpenMP;
+            quadphase::Configure(*a.world, openmp);
+            CHECK(PoolThreadCount() == 3);
+        }
+        REQUIRE(PoolThreadCountOnceSettled(0) == 0);
+    }
 }

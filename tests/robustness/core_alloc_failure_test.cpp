@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// std::bad_alloc inside FindPairs, at every allocation it makes, on 2 threads (OpenMP's, or without OpenMP a task
-// system's): the exception must reach the caller (an exception that leaves an OpenMP region ends the program),
+// std::bad_alloc inside FindPairs, at every allocation it makes, on 2 threads (the library's pool's, and OpenMP's
+// where the build has it): the exception must reach the caller (an exception that leaves a worker thread or an
+// OpenMP region ends the program),
 // the broadphase must stay valid, and the next FindPairs must report every pair a twin that never failed reports:
 // nothing queued or buffered is lost.
 // This executable replaces the global operator new, so it is kept apart from the other tests.
@@ -111,19 +112,6 @@ Box RandomBox(std::mt19937& rng, float world)
     return Box{x - h, y - h, x + h, y + h};
 }
 
-// Without OpenMP, Config::threads runs serially; the blocks of the parallel search then run on a task system that
-// runs every item in one range on the calling thread: the same blocks, the same capture of a block's exception.
-void* RunHere(TaskCallback* task, int itemCount, int /*minRange*/, void* taskContext, void* /*userContext*/)
-{
-    task(0, itemCount, 0u, taskContext);
-    return nullptr; // done: finishTask is not called
-}
-
-void NeverCalled(void* /*userTask*/, void* /*userContext*/)
-{
-    std::abort();
-}
-
 std::vector<Pair> Sorted(std::vector<Pair> pairs)
 {
     for (Pair& p : pairs)
@@ -138,20 +126,15 @@ std::vector<Pair> Sorted(std::vector<Pair> pairs)
     return pairs;
 }
 
-} // namespace
-
-TEST_CASE("std::bad_alloc at any allocation of FindPairs on 2 threads: thrown to the caller, nothing lost",
-          "[alloc]")
+// Fails allocation 1, 2, ... of FindPairs on 2 threads of `executor` until a call gets through, over 6 steps' moves.
+void CheckFindPairsAllocFailures(Executor executor)
 {
+    CAPTURE(executor == Executor::Pool ? "pool" : "openmp");
+    g_failures.store(0);
     Config config;
-    config.threads = 2;           // parallel regions whatever the machine measures
+    config.executor = executor;
+    config.threads = 2;           // parallel calls whatever the machine measures
     config.parallelThreshold = 8; // and for small batches too
-    if (!OpenMPAvailable())
-    {
-        config.taskSystem.enqueueTask = &RunHere;
-        config.taskSystem.finishTask = &NeverCalled;
-        config.taskSystem.workerCount = 2;
-    }
     QuadtreeBroadPhase failing(FatPolicy{}, config);
     QuadtreeBroadPhase twin(FatPolicy{}, config);
     std::mt19937 rng(2026u);
@@ -225,6 +208,19 @@ TEST_CASE("std::bad_alloc at any allocation of FindPairs on 2 threads: thrown to
     CHECK(thrown > 6);
     CHECK(g_failures.load() == thrown);
     CHECK(parallelCalls > 0);
+}
+
+} // namespace
+
+TEST_CASE("std::bad_alloc at any allocation of FindPairs on 2 threads: thrown to the caller, nothing lost",
+          "[alloc]")
+{
+    // The pool runs in every build; OpenMP only where the build has it (Executor::OpenMP is serial without it).
+    CheckFindPairsAllocFailures(Executor::Pool);
+    if (OpenMPAvailable())
+    {
+        CheckFindPairsAllocFailures(Executor::OpenMP);
+    }
 }
 
 TEST_CASE("std::bad_alloc in CreateProxy, DestroyProxy, ShiftOrigin and Configure: all or nothing", "[alloc]")

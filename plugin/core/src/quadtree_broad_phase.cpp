@@ -26,7 +26,7 @@ bool SameBits(float a, float b)
 
 // Whether the pyramid's layout (its bounds and depth, hence the order in which a query visits proxies, hence the
 // pair order) depends on anything that differs between the two settings. The executor's settings (threads,
-// schedule, chunk, thresholds, task system) never change pairs or their order, so changing only them must not
+// executor, schedule, chunk, thresholds, task system) never change pairs or their order, so changing only them must not
 // rebuild either: a rebuild re-tunes for the proxies of that moment and changes the layout from then on.
 bool LayoutSettingsDiffer(const Config& a, const Config& b)
 {
@@ -220,6 +220,10 @@ void QuadtreeBroadPhase::WriteMirrorOfAll()
 void QuadtreeBroadPhase::Configure(const Config& config)
 {
     CheckTaskSystem(config.taskSystem);
+    // What one executor's parallel calls cost says nothing of another's: the measured choice starts afresh.
+    const bool otherExecutor = config.executor != m_config.executor ||
+                               config.taskSystem.enqueueTask != m_config.taskSystem.enqueueTask ||
+                               config.taskSystem.userContext != m_config.taskSystem.userContext;
     if (!LayoutSettingsDiffer(m_config, config))
     {
         m_config = config;
@@ -239,6 +243,11 @@ void QuadtreeBroadPhase::Configure(const Config& config)
             throw;
         }
     }
+    if (otherExecutor)
+    {
+        m_choice = ThreadChoice{};
+        m_aftermathSeconds = 0.0;
+    }
     m_teamStarted = false; // the thread count or the executor may have changed
     StartTeamIfDue();
 }
@@ -247,7 +256,7 @@ void QuadtreeBroadPhase::SetTaskSystem(const TaskSystem& tasks)
 {
     CheckTaskSystem(tasks);
     m_config.taskSystem = tasks;
-    m_choice = ThreadChoice{}; // what OpenMP's team cost says nothing of the game's workers
+    m_choice = ThreadChoice{}; // what the executor's threads cost says nothing of the game's workers
     m_aftermathSeconds = 0.0;
     m_teamStarted = false;
     StartTeamIfDue();

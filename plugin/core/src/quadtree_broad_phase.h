@@ -5,6 +5,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -21,6 +22,10 @@
 
 namespace quadphase
 {
+namespace detail
+{
+class WorkerPool; // worker_pool.h
+}
 
 /// Exact broadphase over a static quadtree (see Pyramid for the placement rule and why it misses nothing).
 ///
@@ -39,14 +44,16 @@ namespace quadphase
 ///   setting. See docs/design.md.
 ///
 /// Determinism: the same sequence of calls gives the same ids, the same pairs and the same pair order, at any
-/// thread count and schedule.
+/// thread count and schedule, on any executor.
 /// Threading: no call may overlap another, except const calls with each other (a const call that finds queued
-/// moves or stale entries applies them under a lock; see QueueMove). GetStats takes the same lock.
+/// moves or stale entries applies them under a lock; see QueueMove). GetStats takes the same lock. Different
+/// objects may be used from different threads at the same time (they share only the pool of Executor::Pool,
+/// which is thread-safe).
 /// Re-entrancy: the callbacks of Query and RayCast may call any method of this object (Box2D games create,
 /// destroy and move bodies from b2World::QueryAABB and RayCast callbacks); see Query for what is then reported.
 /// A rebuild (Configure, ShiftOrigin, an automatic re-tune) counts as moving every proxy.
-/// Allocation failure: std::bad_alloc propagates out of the call that needed the memory, never from inside an
-/// OpenMP region; FindPairs then leaves the queued moves or the move buffer as they were, so calling it again
+/// Allocation failure: std::bad_alloc propagates out of the call that needed the memory, never from inside a
+/// worker thread; FindPairs then leaves the queued moves or the move buffer as they were, so calling it again
 /// reports every pair.
 class QuadtreeBroadPhase final : public BroadPhaseInterface
 {
@@ -152,9 +159,10 @@ public:
     void Configure(const Config& config);
     const Config& GetConfig() const { return m_config; }
 
-    /// Runs parallel pair generation on the game's job system from the next FindPairs on (an empty TaskSystem{}
-    /// goes back to OpenMP); like Configure with only the task system changed, it rebuilds nothing. The measured serial/parallel choice starts
-    /// afresh. Throws std::invalid_argument, changing nothing, for a half-set one (see TaskSystem).
+    /// Runs parallel pair generation on the game's job system from the next FindPairs on (an empty TaskSystem{} goes
+    /// back to Config::executor); like Configure with only the task system changed, it rebuilds nothing. The measured
+    /// serial/parallel choice starts afresh. Throws std::invalid_argument, changing nothing, for a half-set one (see
+    /// TaskSystem).
     void SetTaskSystem(const TaskSystem& tasks);
 
     /// A snapshot of shape and work counters. O(cells) for the occupancy fields. Safe beside concurrent const
@@ -265,7 +273,8 @@ private:
         return m_config.threads > 1 ||
                (m_config.threads == 0 && m_pool.LiveCount() >= m_config.parallelMinProxies);
     }
-    // Starts OpenMP's team the first time MayRunParallel() holds, so that no FindPairs pays for creating it.
+    // Starts the executor's threads the first time MayRunParallel() holds, so that no FindPairs pays for creating
+    // them.
     void StartTeamIfDue()
     {
         if (!m_teamStarted && MayRunParallel())
@@ -280,8 +289,7 @@ private:
     struct BlockSearch;
     static constexpr int64_t kBlock = 64; // queries per block of a parallel search
     void SearchBlock(int64_t b);
-    void RunOnOpenMP(BlockSearch& search, int threads);
-    void RunOnTaskSystem(BlockSearch& search);
+    void RunOnTaskSystem(BlockSearch& search, const TaskSystem& tasks);
 
     FatPolicy m_policy;
     Config m_config;
@@ -329,6 +337,9 @@ private:
     // window (see ThreadChoice) that lies outside the calls.
     double m_aftermathSeconds = 0.0;
     bool m_teamStarted = false; // StartTeam ran (or a task system made it unnecessary)
+    // Executor::Pool: the process's detail::WorkerPool, held from the first StartTeam on (see worker_pool.h); null
+    // otherwise.
+    std::shared_ptr<detail::WorkerPool> m_workerPool;
     // Counts calls that changed proxies or entries (create, destroy, move, queue applied, rebuild). Query and
     // RayCast compare it before and after their callbacks: unchanged means every collected candidate is still
     // what it was, so the re-entrancy checks cost nothing in the common case.

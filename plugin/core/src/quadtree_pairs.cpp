@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// QuadtreeBroadPhase::FindPairs: one query per buffered proxy, serial or in fixed blocks on OpenMP threads or the
-// game's task system, with the same pairs in the same order every way.
+// QuadtreeBroadPhase::FindPairs: one query per buffered proxy, serial or in fixed blocks run by an executor (the
+// library's pool, OpenMP or the game's task system, all through one TaskSystem interface), with the same pairs in
+// the same order every way.
 #include "quadtree_broad_phase.h"
 
 #include <algorithm>
@@ -9,13 +10,10 @@
 #include <mutex>
 
 #include "box_simd.h"
+#include "openmp_tasks.h"
 #include "quadtree_clock.h"
 #include "report_error.h"
-
-// _OPENMP: the compiler's own mark of -fopenmp, so the sources follow whatever QUADPHASE_OPENMP gave them.
-#ifdef _OPENMP
-#include <omp.h>
-#endif
+#include "worker_pool.h"
 
 namespace quadphase
 {
@@ -43,8 +41,8 @@ void QuadtreeBroadPhase::FindPairs(std::vector<Pair>& out)
 {
     const Clock::time_point start = Clock::now();
     const int64_t work = int64_t(m_queuedCount + m_stale.size()) + m_pool.BufferedCount();
-    // Below the threshold no parallel region can open (neither the queue's apply nor the search), so OpenMP is
-    // not asked (omp_get_max_threads is a call into libgomp; most of Box2D's calls, after time-of-impact events
+    // Below the threshold no parallel call can happen (neither the queue's apply nor the search), so the executor
+    // is not asked (omp_get_max_threads is a call into libgomp; most of Box2D's calls, after time-of-impact events
     // and on quiet scenes, are this small).
     int threads = work >= int64_t(m_config.parallelThreshold) && MayRunParallel() ? Threads() : 1;
     const bool eligible = m_config.threads == 0 && threads > 1 && work >= int64_t(m_config.parallelThreshold);
@@ -121,30 +119,28 @@ void QuadtreeBroadPhase::FindPairsOfWork(std::vector<Pair>& out, int threads)
 void QuadtreeBroadPhase::StartTeam()
 {
     m_teamStarted = true;
+    const bool pool = !UsesTaskSystem() && m_config.executor == Executor::Pool;
+    if (!pool)
+    {
+        m_workerPool.reset(); // its threads end with the last broadphase that holds it
+    }
     if (UsesTaskSystem())
     {
         return; // the game's workers exist already
     }
     const int threads = Threads();
-    if (threads > 1)
+    if (pool && threads > 1)
     {
-        // A region that only counts its threads: libgomp creates the team here and keeps it for the later
-        // regions of the same size. (GCC drops a region with an empty body, threads and all.)
-        std::atomic<int> started{0};
-#ifdef _OPENMP
-#pragma omp parallel num_threads(threads)
-#endif
-        started.fetch_add(1, std::memory_order_relaxed);
+        if (!m_workerPool)
+        {
+            m_workerPool = detail::WorkerPool::Shared();
+        }
+        m_workerPool->Reserve(threads - 1); // the caller is the team's first thread
     }
-}
-
-bool OpenMPAvailable()
-{
-#ifdef _OPENMP
-    return true;
-#else
-    return false;
-#endif
+    else if (!pool)
+    {
+        detail::StartOpenMPTeam(threads);
+    }
 }
 
 int QuadtreeBroadPhase::Threads() const
@@ -154,18 +150,23 @@ int QuadtreeBroadPhase::Threads() const
         const int workers = m_config.taskSystem.workerCount;
         return m_config.threads > 0 ? std::min(m_config.threads, workers) : workers;
     }
-#ifdef _OPENMP
-    return m_config.threads > 0 ? m_config.threads : omp_get_max_threads();
-#else
-    return 1; // serial at any Config::threads (see its declaration)
-#endif
+    if (m_config.executor == Executor::OpenMP && !OpenMPAvailable())
+    {
+        return 1; // serial at any Config::threads (see its declaration); the pool needs no OpenMP
+    }
+    if (m_config.threads > 0)
+    {
+        return m_config.threads;
+    }
+    return m_config.executor == Executor::Pool ? detail::WorkerPool::DefaultThreads()
+                                               : detail::OpenMPMaxThreads();
 }
 
 // The buffered proxies are cut into fixed blocks of kBlock queries, whatever the thread count and whoever runs them
-// (OpenMP or the game's task system). Each block writes only its own vector, with no lock; the vectors are then
-// joined in block order. The output is therefore the serial loop's output, pair for pair and in the same order, at
-// any thread count, under any schedule and in any order the ranges run. During the search the pyramid and the pool
-// are only read.
+// (the library's pool, OpenMP or the game's task system). Each block writes only its own vector, with no lock; the
+// vectors are then joined in block order. The output is therefore the serial loop's output, pair for pair and in the
+// same order, at any thread count, under any schedule and in any order the ranges run. During the search the pyramid
+// and the pool are only read.
 struct QuadtreeBroadPhase::BlockSearch
 {
     BlockSearch(QuadtreeBroadPhase* owner, int64_t blockCount) : self(owner), blocks(blockCount) {}
@@ -240,13 +241,20 @@ void QuadtreeBroadPhase::FindPairsParallel(std::vector<Pair>& out, int threads)
     }
     m_blockDone.assign(size_t(blocks), 0);
     BlockSearch search(this, blocks);
+    // Each executor is a TaskSystem, so that the blocks are handed out, checked and joined in one way.
     if (UsesTaskSystem())
     {
-        RunOnTaskSystem(search);
+        RunOnTaskSystem(search, m_config.taskSystem);
+    }
+    else if (m_config.executor == Executor::Pool)
+    {
+        detail::WorkerPool::Tasks pool(m_workerPool.get(), threads);
+        RunOnTaskSystem(search, pool.Get());
     }
     else
     {
-        RunOnOpenMP(search, threads);
+        detail::OpenMPTasks team(threads, m_config.schedule, m_config.chunk);
+        RunOnTaskSystem(search, team.Get());
     }
     if (search.error)
     {
@@ -265,38 +273,11 @@ void QuadtreeBroadPhase::FindPairsParallel(std::vector<Pair>& out, int threads)
     }
 }
 
-void QuadtreeBroadPhase::RunOnOpenMP(BlockSearch& search, int threads)
-{
-#ifdef _OPENMP
-    omp_sched_t previousKind;
-    int previousChunk;
-    omp_get_schedule(&previousKind, &previousChunk);
-    static constexpr omp_sched_t kKinds[] = {omp_sched_static, omp_sched_dynamic, omp_sched_guided,
-                                             omp_sched_auto};
-    omp_set_schedule(kKinds[int(m_config.schedule)], m_config.chunk);
-    const int64_t blocks = search.blocks;
-#pragma omp parallel for schedule(runtime) num_threads(threads)
-    for (int64_t b = 0; b < blocks; ++b)
-    {
-        search.Run(b);
-    }
-    omp_set_schedule(previousKind, previousChunk); // the schedule ICV belongs to the caller's thread
-#else
-    // Not reached: without OpenMP, Threads() is 1 unless a task system is set. The blocks in order are the
-    // serial loop's output all the same.
-    (void)threads;
-    for (int64_t b = 0; b < search.blocks; ++b)
-    {
-        search.Run(b);
-    }
-#endif
-}
-
 // A game's job system is not ours to trust blindly: a block it skipped or ran outside the range is reported and
-// searched on the caller's thread, so that no pair is lost whatever it does.
-void QuadtreeBroadPhase::RunOnTaskSystem(BlockSearch& search)
+// searched on the caller's thread, so that no pair is lost whatever it does. (The library's own executors pass
+// the same check; it costs a pass over the blocks' flags.)
+void QuadtreeBroadPhase::RunOnTaskSystem(BlockSearch& search, const TaskSystem& tasks)
 {
-    const TaskSystem& tasks = m_config.taskSystem;
     void* handle = tasks.enqueueTask(&BlockSearch::Task, int(search.blocks), 1, &search, tasks.userContext);
     if (handle != nullptr)
     {

@@ -32,11 +32,11 @@ struct ValidationReport
 /// leave the pairs, their order and the simulation as they were. Call between steps.
 void Configure(b2World& world, const Config& config);
 
-/// Hands pair generation to the game's own job system (quadphase/task_system.h): from the next step on it runs
-/// on the game's workers and quadphase starts no OpenMP thread. TaskSystem{} goes back to OpenMP (to serial in a
-/// build without it, see Config::threads). The pairs and their order, hence the simulation, do not change. Call
-/// between steps; the callbacks must outlive the world or be replaced first. Throws std::invalid_argument for a half-set TaskSystem. Same as Config::taskSystem
-/// through Configure.
+/// Hands pair generation to the game's own job system (quadphase/task_system.h): from the next step on it runs on the
+/// game's workers and quadphase starts no thread of its own. TaskSystem{} goes back to Config::executor (the library's
+/// pool by default; see Config::threads). The pairs and their order, hence the simulation, do not change. Call between
+/// steps; the callbacks must outlive the world or be replaced first. Throws std::invalid_argument for a half-set
+/// TaskSystem. Same as Config::taskSystem through Configure.
 void SetTaskSystem(b2World& world, const TaskSystem& tasks);
 
 /// The world's current settings.

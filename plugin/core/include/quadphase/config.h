@@ -8,6 +8,19 @@
 namespace quadphase
 {
 
+/// Who runs parallel pair generation when no Config::taskSystem is set. Either way the pairs and their order are
+/// those of the serial loop: the work is cut into the same blocks, written in the same order.
+enum class Executor
+{
+    /// The library's own pool of threads, one per process (shared by every broadphase), whose threads sleep as
+    /// soon as a step's pair search ends: no CPU is used between steps. The default.
+    Pool,
+    /// OpenMP (`omp parallel for` under Config::schedule). libgomp's threads keep spinning after each step
+    /// (GOMP_SPINCOUNT) unless the process was started with OMP_WAIT_POLICY=passive: up to a core's worth of CPU
+    /// while the game waits for its next frame. Serial in a build without OpenMP (see OpenMPAvailable).
+    OpenMP,
+};
+
 /// OpenMP loop schedules for pair generation (the paper compared the first three).
 enum class Schedule
 {
@@ -36,20 +49,28 @@ struct Config
     /// (docs/design.md, "Automatic depth and bounds").
     float cellToProxyRatio = 2.0f;
 
-    /// Threads for pair generation. 0: up to OpenMP's own setting (OMP_NUM_THREADS, else the
-    /// core count), but serial while serial calls are measured faster (a machine whose cores are busy with other
-    /// work makes every parallel region wait; see QuadtreeBroadPhase::FindPairs). N > 0: exactly N, always.
-    /// The pairs and their order do not depend on it.
-    /// In a build without OpenMP (OpenMPAvailable() false: QUADPHASE_OPENMP=OFF, as with Apple's clang or
-    /// Emscripten) and without a taskSystem, every value runs serially: the fallback is documented here and not
-    /// reported as an error, since a thread count asks for speed, never for other pairs. The value is kept as
-    /// given (GetConfig returns it) and Stats::parallelCalls stays 0; set a taskSystem to run in parallel there.
+    /// Threads for pair generation, the caller's included, run by `executor` (the library's pool by default).
+    /// 0: up to OMP_NUM_THREADS's first number when it is set, else the cores the process may run on (for
+    /// Executor::OpenMP: omp_get_max_threads()), but serial while serial calls are measured faster (a machine whose
+    /// cores are busy with other work makes every parallel call wait; see QuadtreeBroadPhase::FindPairs). N > 0: up
+    /// to N, always (Executor::Pool: fewer while another broadphase's call holds the pool; then this call runs on
+    /// its own thread). 1: serial, with no thread started. The pairs and their order do not depend on it.
+    /// The pool is plain std::thread and runs in every build. Executor::OpenMP in a build without OpenMP
+    /// (OpenMPAvailable() false: QUADPHASE_OPENMP=OFF, as with Apple's clang or Emscripten) runs serially at every
+    /// value: the fallback is documented here and not reported as an error, since a thread count asks for speed,
+    /// never for other pairs. The value is kept as given (GetConfig returns it) and Stats::parallelCalls stays 0;
+    /// use the pool or a taskSystem to run in parallel there.
     int threads = 0;
 
-    /// OpenMP schedule of the loop over blocks of buffered proxies, and its chunk size in blocks (0: OpenMP's
-    /// default for that schedule). The pairs and their order do not depend on them. Guided by default: it ties
-    /// with static when the queries cost alike, and evens out scenes where they do not (rain), where static's
-    /// contiguous halves leave a thread waiting; see docs/design.md.
+    /// Who runs the parallel calls: the library's sleeping pool (the default; see Executor) or OpenMP. Ignored
+    /// while a taskSystem is set. The pairs and their order do not depend on it.
+    Executor executor = Executor::Pool;
+
+    /// Executor::OpenMP only: schedule of the loop over blocks of buffered proxies, and its chunk size in blocks
+    /// (0: OpenMP's default for that schedule; the pool hands out one block at a time to whichever thread is
+    /// free). The pairs and their order do not depend on them. Guided by default: it ties with static when the
+    /// queries cost alike, and evens out scenes where they do not (rain), where static's contiguous halves leave a
+    /// thread waiting; see docs/design.md.
     Schedule schedule = Schedule::Guided;
     int chunk = 0;
 
@@ -63,21 +84,22 @@ struct Config
     /// (bench/RESULTS.md, b2Profile::broadphase, 1 against 2 threads) two threads paid from particles 20,000 and rain
     /// 32,000 on, and lost or tied below (particles 10,000, rain 16,000, pyramid 60, mixed 3,000, churn 8,000), while
     /// a small scene paid for starting the team and for probing the parallel path in its first steps (see
-    /// docs/design.md, "Defaults"). Once a broadphase reaches it, OpenMP's team is started at once, in
+    /// docs/design.md, "Defaults"). Once a broadphase reaches it, the executor's threads are started at once, in
     /// CreateProxy or Configure (between steps in Box2D), so that no step pays for creating threads.
     /// Explicit thread counts (threads > 0) ignore it.
     int parallelMinProxies = 16384;
 
     /// The game's job system (see quadphase/task_system.h). When set, parallel pair generation runs on it and
-    /// quadphase makes no OpenMP call; `threads` then counts the game's workers (0: up to taskSystem.workerCount,
-    /// chosen by measurement as for OpenMP; N > 0: min(N, workerCount)), and `schedule` and `chunk` do not apply.
-    /// Empty by default: OpenMP (serial in a build without it, see `threads`). Configure rejects a half-set one
-    /// (std::invalid_argument).
+    /// quadphase starts no thread of its own and makes no OpenMP call; `threads` then counts the game's workers
+    /// (0: up to taskSystem.workerCount, chosen by measurement as for the executors; N > 0: min(N, workerCount)),
+    /// and `executor`, `schedule` and `chunk` do not apply. Empty by default: `executor` runs the parallel calls.
+    /// Configure rejects a half-set one (std::invalid_argument).
     TaskSystem taskSystem;
 };
 
-/// Whether this build of the library runs `Config::threads` on OpenMP (built with QUADPHASE_OPENMP=ON). When
-/// false, pair generation runs serially unless a Config::taskSystem is set.
+/// Whether this build of the library has OpenMP (built with QUADPHASE_OPENMP=ON), that is whether Executor::OpenMP
+/// runs in parallel. When false, Executor::OpenMP runs serially (see Config::threads); the pool, the default, and a
+/// Config::taskSystem run in parallel in every build.
 bool OpenMPAvailable();
 
 /// Deepest pyramid allowed: 4^12 leaf cells already cost hundreds of MB.

@@ -22,9 +22,10 @@ using EnqueueTaskCallback = void*(TaskCallback* task, int itemCount, int minRang
 using FinishTaskCallback = void(void* userTask, void* userContext);
 
 /// A game's job system. Set both callbacks and workerCount >= 1 to use it, or leave everything at its default
-/// (OpenMP). While it is set quadphase makes no OpenMP call and starts no thread of its own; enqueueTask and
-/// finishTask are called only from the thread that calls FindPairs (b2World::Step, b2BroadPhase::UpdatePairs).
-/// The pairs and their order do not depend on it, nor on the worker count or the order in which ranges run.
+/// (Config::executor: the library's pool unless set otherwise). While it is set quadphase makes no OpenMP call and
+/// starts no thread of its own; enqueueTask and finishTask are called only from the thread that calls FindPairs
+/// (b2World::Step, b2BroadPhase::UpdatePairs). The pairs and their order do not depend on it, nor on the worker count
+/// or the order in which ranges run.
 struct TaskSystem
 {
     EnqueueTaskCallback* enqueueTask = nullptr;
