@@ -61,12 +61,34 @@ void b2BroadPhase::DestroyProxy(int32 proxyId)
     m_proxyCount = state.core.GetProxyCount();
 }
 
-void b2BroadPhase::MoveProxy(int32 proxyId, const b2AABB& aabb, const b2Vec2& displacement)
+namespace
 {
-    BroadPhaseState& state = StateAt(m_state);
+
+// MoveProxy's out-of-line path: stock-tree mode, observers, bad input, unknown ids, a move the core cannot queue
+// on its fast path.
+__attribute__((noinline, cold)) void MoveProxySlow(BroadPhaseState& state, int32 proxyId, const b2AABB& aabb,
+                                                   const b2Vec2& displacement)
+{
     const int32 id = state.CoreId(proxyId);
     state.records.Move(state.core, id, ToBox(aabb), {displacement.x, displacement.y});
     state.observers.Tell(&BroadPhaseObserver::OnMove, id, aabb, displacement);
+}
+
+} // namespace
+
+// Box2D calls it for every fixture of every awake body, on one thread: the common case (no observer, a record,
+// a sane box) is the fat-box test, plus the record and a queue append when the box changed; the cell upkeep waits
+// for UpdatePairs.
+void b2BroadPhase::MoveProxy(int32 proxyId, const b2AABB& aabb, const b2Vec2& displacement)
+{
+    BroadPhaseState& state = StateAt(m_state);
+    if (__builtin_expect(state.observers.Empty() && state.records.TryMove(state.core, proxyId, ToBox(aabb),
+                                                                          {displacement.x, displacement.y}),
+                         1))
+    {
+        return;
+    }
+    MoveProxySlow(state, proxyId, aabb, displacement);
 }
 
 void b2BroadPhase::TouchProxy(int32 proxyId)

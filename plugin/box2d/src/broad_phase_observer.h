@@ -40,7 +40,14 @@ public:
 class ObserverList
 {
 public:
-    void Assign(std::vector<BroadPhaseObserver*> observers) { m_observers = std::move(observers); }
+    void Assign(std::vector<BroadPhaseObserver*> observers)
+    {
+        m_observers = std::move(observers);
+        m_empty = m_observers.empty();
+    }
+
+    /// No observer: the calls may take their fast paths, which tell no one (one load).
+    bool Empty() const { return m_empty; }
 
     template <typename... Params, typename... Args>
     void Tell(void (BroadPhaseObserver::*call)(Params...), const Args&... args) const
@@ -53,6 +60,7 @@ public:
 
 private:
     std::vector<BroadPhaseObserver*> m_observers;
+    bool m_empty = true;
 };
 
 } // namespace detail

@@ -3,6 +3,7 @@
 // GetUserData, TestOverlap), which a program compiled against stock's headers runs on this library.
 #pragma once
 
+#include <cstdint>
 #include <cstring>
 
 #include "box2d_types.h"
@@ -65,8 +66,42 @@ public:
         }
     }
 
+    /// Move's common case, inline in b2BroadPhase::MoveProxy: a proxy with a record and a sane box, whose move
+    /// keeps its fat box (the test alone, as stock's MoveProxy) or gets a new one that the core's fast path queues
+    /// (the test, the record written, an id appended). Returns false, having changed nothing, for anything else:
+    /// Move then does it all.
+    bool TryMove(QuadtreeBroadPhase& core, ProxyId id, const Box& tight, Vec2 displacement)
+    {
+        if (!HasRecord(id))
+        {
+            return false;
+        }
+        b2AABB& record = m_nodes[id].aabb;
+        Box fat;
+        std::memcpy(&fat, static_cast<const void*>(&record), sizeof fat);
+        const bool changed = RefattenSimd(Box2DFatPolicy(), fat, tight, displacement);
+        if (__builtin_expect(!IsSaneSimd(tight), 0))
+        {
+            return false; // reported by Move
+        }
+        if (!changed)
+        {
+            return true;
+        }
+        if (!core.TryQueueFatMove(id, fat))
+        {
+            return false;
+        }
+        std::memcpy(static_cast<void*>(&record), &fat, sizeof fat);
+        return true;
+    }
+
 private:
-    bool HasRecord(ProxyId id) const { return id >= 0 && id < m_capacity && m_nodes[id].height == 0; }
+    // Unsigned: one compare for both bounds.
+    bool HasRecord(ProxyId id) const
+    {
+        return uint32_t(id) < uint32_t(m_capacity) && m_nodes[id].height == 0;
+    }
     void Grow(QuadtreeBroadPhase& core, int32 capacity);
 
     StockMembers m_members{};

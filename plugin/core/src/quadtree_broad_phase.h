@@ -86,27 +86,40 @@ public:
             Enqueue(id, tight, displacement);
             return;
         }
-        QueueMoveSlow(tight, QueuedMove{tight, displacement, id}, false);
+        QueueMoveSlow(tight, QueuedMove{tight, displacement, id});
     }
 
     /// QueueMove for a caller that keeps every proxy's current fat box itself (the boxes of the moves it queued,
     /// and through the mirror the others) and has run the fat-box test on it (RefattenSimd with this object's
-    /// policy): the Box2D adapter, whose node records stock's inline readers read between calls. Call it only for a move whose fat box changed, with `fat` the test's outcome; a move that
-    /// keeps its fat box changes nothing (QueueMove it anyway when `tight` is bad, so that the box is reported).
-    /// `tight` is checked as QueueMove checks it. Applied as QueueMove's move would be, with `fat` as its outcome:
-    /// the test is not run again and the mirror is not written (the caller has the box already), so a changed fat
-    /// box is computed once and written once. The queue holds one kind of move at a time: a QueueFatMove after a
-    /// QueueMove, or the reverse, applies the queue first (in call order, so the outcome is the same).
+    /// policy): the Box2D adapter, whose node records stock's inline readers read between calls. Call it only for a
+    /// move whose fat box changed, with `fat` the test's outcome; a move that keeps its fat box changes nothing
+    /// (QueueMove it anyway when `tight` is bad, so that the box is reported). `tight` is checked as QueueMove
+    /// checks it. Applied as QueueMove's move would be, with `fat` as its outcome: the test is not run again and
+    /// the mirror is not written (the caller has the box already), so a changed fat box is computed once and
+    /// written once. Unlike QueueMove's, this queue is never applied for being full: it grows (4 bytes per queued
+    /// proxy, the pool holding the box), so that the cell upkeep of the moves runs in FindPairs, never in the
+    /// caller's serial calls. The queue holds one kind of move at a time: a QueueFatMove after a QueueMove, or the
+    /// reverse, applies the queue first (in call order, so the outcome is the same).
     void QueueFatMove(ProxyId id, const Box& tight, const Box& fat)
     {
-        if (__builtin_expect(int(m_pool.IsLiveAndNotPending(id)) & int(IsSaneSimd(tight)) &
-                                 int(m_queuedCount < m_fastFatRoom),
-                             1))
+        if (__builtin_expect(IsSaneSimd(tight) && TryQueueFatMove(id, fat), 1)) // a bad box queues nothing
         {
-            Enqueue(id, fat, Vec2{0.0f, 0.0f});
             return;
         }
-        QueueMoveSlow(tight, QueuedMove{fat, Vec2{0.0f, 0.0f}, id}, true);
+        QueueFatMoveSlow(tight, id, fat);
+    }
+
+    /// QueueFatMove's inline part, for a caller that has checked `tight` itself (IsSaneSimd): queues the move and
+    /// returns true, or returns false having changed nothing when the move needs QueueFatMove's out-of-line path
+    /// (unknown id, a second move of the proxy, a queue of QueueMove's, a full queue, timing on).
+    bool TryQueueFatMove(ProxyId id, const Box& fat)
+    {
+        if (int(m_pool.IsLiveAndNotPending(id)) & int(m_queuedCount < m_fastFatRoom))
+        {
+            EnqueueFat(id, fat);
+            return true;
+        }
+        return false;
     }
 
     /// Applies the queued moves now (see QueueMove). Calls that read fat boxes do it themselves; this is for
@@ -212,6 +225,16 @@ private:
         m_hasQueued.store(true, std::memory_order_release);
         ++m_queuedCount; // when this fills the queue, the next move (QueueMoveSlow) applies or grows it
     }
+    // QueueFatMove's store: the new fat box goes to the pool now (every reader of it applies the queue first), and
+    // only the id to the queue.
+    void EnqueueFat(ProxyId id, const Box& fat)
+    {
+        m_pool.MarkPending(id);
+        m_pool.Fat(id) = fat;
+        m_queuedIds[m_queuedCount] = id;
+        m_hasQueued.store(true, std::memory_order_release);
+        ++m_queuedCount; // when this fills the queue, the next move (QueueFatMoveSlow) grows it
+    }
     // 8192 x 28 bytes (229 KB): a chunk still in the cache of the thread that queued it when it is applied, a
     // dozen applies per step for 100k moving proxies (each has a fixed cost of a few hundred ns), and a bound on
     // memory that does not grow with the world.
@@ -251,8 +274,11 @@ private:
     void NoteStale() { m_hasStale.store(!m_stale.empty(), std::memory_order_release); }
     void CheckBox(const Box& b, const char* call, ProxyId id);
     void FindPairsOfWork(std::vector<Pair>& out, int threads);
-    // Both kinds of queued move, `fat` saying which; `tight` is the box to check.
-    void QueueMoveSlow(const Box& tight, const QueuedMove& move, bool fat);
+    // The out-of-line paths of QueueMove and QueueFatMove; `tight` is the box to check.
+    void QueueMoveSlow(const Box& tight, const QueuedMove& move);
+    void QueueFatMoveSlow(const Box& tight, ProxyId id, const Box& fat);
+    // Applies a queue of the other kind than `fat` says, then makes it that kind.
+    void SwitchQueueKind(bool fat);
     // Applies the queue, in queue order, on the calling thread: fat-box tests, in-cell rewrites, then the stale list
     // and the move buffer. Requires exclusive access.
     // `now`, when given, is the caller's last clock reading (taken as this call's start) and receives its end.
@@ -299,7 +325,10 @@ private:
     // vector's size is the queue's capacity (grown by QueueMoveSlow, up to QueueLimit()), so the fast path never
     // allocates.
     std::vector<QueuedMove> m_queued;
-    size_t m_queuedCount = 0;
+    // QueueFatMove calls not applied yet, the same way (their boxes are in the pool already); grown by
+    // QueueFatMoveSlow without a limit other than the proxies (each is queued at most once).
+    std::vector<ProxyId> m_queuedIds;
+    size_t m_queuedCount = 0; // of m_queued or m_queuedIds, the kind m_queueHoldsFat says
     // True while the queue holds QueueFatMove's moves (the kind of the last move queued): one kind at a time keeps
     // ApplyQueued's loops free of a branch per move.
     bool m_queueHoldsFat = false;
@@ -309,9 +338,8 @@ private:
     size_t m_fastFatRoom = 0;
     void UpdateFastRoom()
     {
-        const size_t room = m_timing ? 0 : m_queued.size();
-        m_fastRoom = m_queueHoldsFat ? 0 : room;
-        m_fastFatRoom = m_queueHoldsFat ? room : 0;
+        m_fastRoom = m_queueHoldsFat || m_timing ? 0 : m_queued.size();
+        m_fastFatRoom = m_queueHoldsFat && !m_timing ? m_queuedIds.size() : 0;
     }
     // ApplyQueued's scratch, in queue order: the ids it adds to the stale list, and the ids with a new fat box (for
     // the move buffer).

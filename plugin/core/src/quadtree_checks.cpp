@@ -29,7 +29,7 @@ Stats QuadtreeBroadPhase::GetStats() const
     // Every heap byte held, working buffers included (their capacity, not their size).
     s.memoryBytes =
         m_pool.MemoryBytes() + m_pyramid.MemoryBytes() +
-        int64_t((m_work.capacity() + m_stale.capacity()) * sizeof(ProxyId)) +
+        int64_t((m_work.capacity() + m_stale.capacity() + m_queuedIds.capacity()) * sizeof(ProxyId)) +
         int64_t(m_queued.capacity() * sizeof(QueuedMove)) +
         int64_t(m_blockPairs.capacity() * sizeof(std::vector<Pair>)) +
         int64_t((m_applyLists.stale.capacity() + m_applyLists.buffered.capacity()) * sizeof(ProxyId));

@@ -61,14 +61,8 @@ bool QuadtreeBroadPhase::MoveProxy(ProxyId id, const Box& tight, Vec2 displaceme
     return true;
 }
 
-void QuadtreeBroadPhase::QueueMoveSlow(const Box& tight, const QueuedMove& move, bool fat)
+void QuadtreeBroadPhase::SwitchQueueKind(bool fat)
 {
-    if (!m_pool.CheckLive(move.id, "MoveProxy"))
-    {
-        return;
-    }
-    CheckBox(tight, "MoveProxy", move.id);
-    const Clock::time_point start = m_timing ? Clock::now() : Clock::time_point{};
     if (fat != m_queueHoldsFat)
     {
         // The other kind: the moves queued so far are applied first, in call order.
@@ -76,6 +70,17 @@ void QuadtreeBroadPhase::QueueMoveSlow(const Box& tight, const QueuedMove& move,
         m_queueHoldsFat = fat;
         UpdateFastRoom();
     }
+}
+
+void QuadtreeBroadPhase::QueueMoveSlow(const Box& tight, const QueuedMove& move)
+{
+    if (!m_pool.CheckLive(move.id, "MoveProxy"))
+    {
+        return;
+    }
+    CheckBox(tight, "MoveProxy", move.id);
+    const Clock::time_point start = m_timing ? Clock::now() : Clock::time_point{};
+    SwitchQueueKind(false);
     if (!m_pool.MarkPending(move.id))
     {
         // Moved twice before the queue was applied: the second move must see the first one's fat box.
@@ -99,6 +104,35 @@ void QuadtreeBroadPhase::QueueMoveSlow(const Box& tight, const QueuedMove& move,
     }
     m_queued[m_queuedCount++] = move;
     m_hasQueued.store(true, std::memory_order_release);
+    if (m_timing)
+    {
+        m_counters.updateSeconds += SecondsSince(start);
+    }
+}
+
+void QuadtreeBroadPhase::QueueFatMoveSlow(const Box& tight, ProxyId id, const Box& fat)
+{
+    if (!m_pool.CheckLive(id, "MoveProxy"))
+    {
+        return;
+    }
+    CheckBox(tight, "MoveProxy", id);
+    const Clock::time_point start = m_timing ? Clock::now() : Clock::time_point{};
+    SwitchQueueKind(true);
+    if (m_pool.IsPending(id))
+    {
+        // Moved twice before the queue was applied: the first move takes effect first (the stale list and the
+        // move buffer keep call order).
+        ApplyQueued();
+    }
+    if (m_queuedCount == m_queuedIds.size())
+    {
+        // Full: grows by doubling (std::bad_alloc here changes nothing). Never applied here: its cell upkeep is
+        // FindPairs' work.
+        m_queuedIds.resize(std::max<size_t>(64, 2 * m_queuedIds.size()));
+    }
+    UpdateFastRoom();
+    EnqueueFat(id, fat);
     if (m_timing)
     {
         m_counters.updateSeconds += SecondsSince(start);
@@ -174,12 +208,12 @@ void QuadtreeBroadPhase::ApplyQueued(Clock::time_point* now)
     size_t n = 0;
     if (m_queueHoldsFat)
     {
+        // The boxes are in the pool already (EnqueueFat).
+        const ProxyId* const ids = m_queuedIds.data();
         for (int64_t i = 0; i < count; ++i)
         {
-            const QueuedMove& move = moves[i];
-            state[size_t(move.id)] &= ProxyPool::kClearPendingMask;
-            boxes[move.id] = move.box;
-            out[i] = int32_t(i);
+            state[size_t(ids[i])] &= ProxyPool::kClearPendingMask;
+            out[i] = ids[i];
         }
         n = size_t(count);
     }
@@ -189,7 +223,7 @@ void QuadtreeBroadPhase::ApplyQueued(Clock::time_point* now)
         {
             const QueuedMove& move = moves[i];
             state[size_t(move.id)] &= ProxyPool::kClearPendingMask;
-            out[n] = int32_t(i);
+            out[n] = move.id;
             n += RefattenSimd(policy, boxes[move.id], move.box, move.displacement) ? 1 : 0;
         }
     }
@@ -198,7 +232,7 @@ void QuadtreeBroadPhase::ApplyQueued(Clock::time_point* now)
     size_t ns = 0;
     for (size_t k = 0; k < n; ++k)
     {
-        const ProxyId id = moves[out[k]].id; // the queue index is replaced by the id below
+        const ProxyId id = out[k];
         if (mirror.Enabled())
         {
             mirror.Write(id, boxes[id]);
@@ -207,7 +241,6 @@ void QuadtreeBroadPhase::ApplyQueued(Clock::time_point* now)
         {
             stale[ns++] = id;
         }
-        out[k] = id;
     }
     stale.resize(ns);
     m_pyramid.AddOutsideDelta(outsideDelta);
@@ -219,10 +252,13 @@ void QuadtreeBroadPhase::ApplyQueued(Clock::time_point* now)
     buffered.clear();
     m_queuedCount = 0;
     m_hasQueued.store(false, std::memory_order_release);
-    if (m_queued.size() > 2 * QueueLimit())
+    if (m_queued.size() > 2 * QueueLimit() ||
+        m_queuedIds.size() > 2 * std::max<size_t>(64, size_t(m_pool.LiveCount())))
     {
-        // The world shrank: so does the queue (and the lists sized from it).
-        std::vector<QueuedMove>(QueueLimit()).swap(m_queued);
+        // The world shrank: so do the queues (and the lists sized from them).
+        std::vector<QueuedMove>(std::min(m_queued.size(), QueueLimit())).swap(m_queued);
+        std::vector<ProxyId>(std::min(m_queuedIds.size(), std::max<size_t>(64, size_t(m_pool.LiveCount()))))
+            .swap(m_queuedIds);
         UpdateFastRoom();
         m_applyLists = ApplyLists{};
     }
