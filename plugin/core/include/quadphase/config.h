@@ -3,6 +3,7 @@
 #pragma once
 
 #include "quadphase/box.h"
+#include "quadphase/export.h"
 #include "quadphase/task_system.h"
 
 namespace quadphase
@@ -78,7 +79,7 @@ struct Config
 
 /// Whether this build of the library runs `Config::threads` on OpenMP (built with QUADPHASE_OPENMP=ON). When
 /// false, pair generation runs serially unless a Config::taskSystem is set.
-bool OpenMPAvailable();
+QUADPHASE_API bool OpenMPAvailable();
 
 /// Deepest pyramid allowed: 4^12 leaf cells already cost hundreds of MB.
 constexpr int kMaxDepth = 12;
