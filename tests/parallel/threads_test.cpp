@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// Which threads the library starts, counted in the process (/proc/self/status). Each test case runs in a process
-// of its own (see CMakeLists.txt), so that no earlier test has started OpenMP's team already.
+// Which threads the library starts, counted in the process (/proc/self/status; on Windows a snapshot of the
+// system's threads). Each test case runs in a process of its own (see CMakeLists.txt), so that no earlier test has started OpenMP's team already.
 #include <catch2/catch.hpp>
 
 #include <cstdint>
@@ -11,6 +11,13 @@
 #include "quadphase_jobs/job_system.h"
 #include "quadphase_scenes/scenes.h"
 
+#if defined(_WIN32)
+#define WIN32_LEAN_AND_MEAN
+#include <windows.h>
+
+#include <tlhelp32.h> // after windows.h, which it needs
+#endif
+
 namespace
 {
 
@@ -18,6 +25,19 @@ using quadphase::scenes::SceneId;
 
 int ThreadCount()
 {
+#if defined(_WIN32)
+    const HANDLE snapshot = CreateToolhelp32Snapshot(TH32CS_SNAPTHREAD, 0);
+    REQUIRE(snapshot != INVALID_HANDLE_VALUE);
+    THREADENTRY32 entry;
+    entry.dwSize = sizeof(entry);
+    int count = 0;
+    for (BOOL more = Thread32First(snapshot, &entry); more; more = Thread32Next(snapshot, &entry))
+    {
+        count += entry.th32OwnerProcessID == GetCurrentProcessId() ? 1 : 0;
+    }
+    CloseHandle(snapshot);
+    return count;
+#else
     std::ifstream status("/proc/self/status");
     std::string line;
     while (std::getline(status, line))
@@ -29,6 +49,7 @@ int ThreadCount()
     }
     FAIL("no Threads: line in /proc/self/status");
     return -1;
+#endif
 }
 
 quadphase::Stats StepScene(quadphase::scenes::Scene& scene, int steps)
