@@ -90,12 +90,7 @@ inline int CountTrailingZeros32(unsigned x)
     _BitScanForward(&index, x);
     return int(index);
 #else
-    int n = 0;
-    for (unsigned bit = 1; (x & bit) == 0; bit <<= 1)
-    {
-        ++n;
-    }
-    return n;
+    return 31 - CountLeadingZeros32(x & (0u - x)); // x & -x keeps the lowest set bit alone
 #endif
 }
 
