@@ -24,10 +24,4 @@ qp_configure "$build_dir" -DCMAKE_TOOLCHAIN_FILE=cmake/toolchains/aarch64-linux-
 qp_build "$build_dir"
 
 export QUADPHASE_DETERMINISM_STEPS=${QUADPHASE_DETERMINISM_STEPS:-120}
-log="$build_dir/ctest-arm64.log"
-set -x
-rc=0
-ctest --test-dir "$build_dir" --output-on-failure -j "$QP_JOBS" 2>&1 | tee "$log" || rc=$?
-set +x
-echo "$QP_NAME: ARM64 under qemu-aarch64: $(grep -E 'tests passed|tests failed' "$log" | tail -n 1)"
-exit "$rc"
+qp_ctest "$build_dir" "$build_dir/ctest-arm64.log" "ARM64 under qemu-aarch64"
