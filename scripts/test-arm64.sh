@@ -17,10 +17,7 @@
 source "$(dirname "${BASH_SOURCE[0]}")/lib/build.sh"
 qp_deps scripts/install-deps.sh --for arm64
 build_dir=${BUILD_DIR:-build-arm64}
-launcher=()
-command -v ccache >/dev/null 2>&1 && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
-qp_configure "$build_dir" -DCMAKE_TOOLCHAIN_FILE=cmake/toolchains/aarch64-linux-gnu.cmake -DCMAKE_BUILD_TYPE=Release \
-    -DQUADPHASE_BUILD_BENCH=OFF -DQUADPHASE_PACKAGE_TESTS=OFF -DQUADPHASE_INSTALL=OFF "${launcher[@]}" "$@"
+qp_configure_cross "$build_dir" cmake/toolchains/aarch64-linux-gnu.cmake "$@"
 qp_build "$build_dir"
 
 export QUADPHASE_DETERMINISM_STEPS=${QUADPHASE_DETERMINISM_STEPS:-120}

@@ -19,11 +19,7 @@
 source "$(dirname "${BASH_SOURCE[0]}")/lib/build.sh"
 qp_deps scripts/install-deps.sh --for windows
 build_dir=${BUILD_DIR:-build-windows}
-launcher=()
-command -v ccache >/dev/null 2>&1 && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
-qp_configure "$build_dir" -DCMAKE_TOOLCHAIN_FILE=cmake/toolchains/mingw-w64-x86_64.cmake -DCMAKE_BUILD_TYPE=Release \
-    -DQUADPHASE_BUILD_BENCH=OFF -DQUADPHASE_PACKAGE_TESTS=OFF -DQUADPHASE_INSTALL=OFF \
-    "${launcher[@]}" "$@"
+qp_configure_cross "$build_dir" cmake/toolchains/mingw-w64-x86_64.cmake "$@"
 
 # Wine makes its prefix at first use, which takes a while: once here, before the build's test discovery starts
 # several programs at once.

@@ -10,9 +10,12 @@
 #   qp_deps [SCRIPT [PKG...]]     run SCRIPT (default scripts/install-deps.sh) with PKG... unless QUADPHASE_SKIP_DEPS=1
 #   qp_configure DIR [ARG...]     cmake -S . -B DIR ARG... plus the Box2D source options from the environment
 #                                 (QUADPHASE_BOX2D_SOURCE_DIR, QUADPHASE_BOX2D_TARBALL); exits 1 with a message on failure
+#   qp_configure_cross DIR TOOLCHAIN [ARG...]
+#                                 qp_configure for a cross target's suite: the toolchain file, Release, no benchmarks,
+#                                 package tests or install rules, compiles through ccache when it is installed
 #   qp_build DIR [TARGET...]      cmake --build DIR -j QP_JOBS [--target TARGET...]; exits 1 with a message on failure
-#   qp_ctest DIR LOG LABEL        ctest --test-dir DIR --output-on-failure -j QP_JOBS, its output also in LOG; then prints
-#                                 "QP_NAME: LABEL: <ctest's summary line>" last and returns ctest's status
+#   qp_ctest DIR LOG LABEL        ctest --test-dir DIR --output-on-failure -j QP_JOBS, its output also in LOG; then
+#                                 prints "QP_NAME: LABEL: <ctest's summary line>" last and returns ctest's status
 #   qp_exe DIR/PATH               DIR/PATH, or DIR/<dir of PATH>/Release/<name> (multi-config generators); exits 1 if
 #                                 neither is executable
 # With QP_LOG=1, qp_configure and qp_build write DIR/configure.log and DIR/build.log and show only their tails on
@@ -43,6 +46,13 @@ qp_configure() {
     [[ -n "${QUADPHASE_BOX2D_SOURCE_DIR:-}" ]] && box2d+=("-DQUADPHASE_BOX2D_SOURCE_DIR=$QUADPHASE_BOX2D_SOURCE_DIR")
     [[ -n "${QUADPHASE_BOX2D_TARBALL:-}" ]] && box2d+=("-DQUADPHASE_BOX2D_TARBALL=$QUADPHASE_BOX2D_TARBALL")
     _qp_run configure "$dir" "configuring $dir" cmake -S . -B "$dir" "${box2d[@]}" "${@:2}"
+}
+
+qp_configure_cross() {
+    local launcher=()
+    command -v ccache >/dev/null 2>&1 && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+    qp_configure "$1" "-DCMAKE_TOOLCHAIN_FILE=$2" -DCMAKE_BUILD_TYPE=Release -DQUADPHASE_BUILD_BENCH=OFF \
+        -DQUADPHASE_PACKAGE_TESTS=OFF -DQUADPHASE_INSTALL=OFF "${launcher[@]}" "${@:3}"
 }
 
 qp_build() { # no TARGET: the default target
