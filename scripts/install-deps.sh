@@ -28,6 +28,8 @@
 #   deb-check    scripts/deb-check.sh: + Xvfb, Mesa (its round trip installs and removes caveexpress itself)
 #   arm64        scripts/test-arm64.sh: + Debian's aarch64 cross g++ (with its libstdc++, libgomp and glibc), qemu-user to
 #                run the tests, abigail-tools (tests/abi's abidiff)
+#   windows      scripts/test-windows.sh: + MinGW-w64's g++ (POSIX threads flavour: std::thread, OpenMP), Wine (64-bit)
+#                to run the tests
 # Idempotent: does nothing (and no `apt-get update`) when everything is installed. Runs as root, or through sudo.
 set -euo pipefail
 
@@ -73,10 +75,11 @@ packages_for() {
         deb) echo debhelper dpkg-dev lintian ;;
         deb-check) echo "${xvfb[@]}" ;;
         arm64) echo g++-aarch64-linux-gnu qemu-user abigail-tools ;;
+        windows) echo g++-mingw-w64-x86-64-posix wine wine64 ;;
         *) return 1 ;;
     esac
 }
-all_purposes=(test demo render testbed bench race sanitize fuzz deb arm64)
+all_purposes=(test demo render testbed bench race sanitize fuzz deb arm64 windows)
 
 usage() {
     sed -n '2,/^set -euo/{/^# SPDX-License-Identifier: MIT$/!p}' "${BASH_SOURCE[0]}" | sed '$d; s/^# \{0,1\}//'

@@ -17,15 +17,8 @@
 source "$(dirname "${BASH_SOURCE[0]}")/lib/build.sh"
 qp_deps scripts/install-deps.sh --for arm64
 build_dir=${BUILD_DIR:-build-arm64}
-qp_configure "$build_dir" -DCMAKE_TOOLCHAIN_FILE=cmake/toolchains/aarch64-linux-gnu.cmake -DCMAKE_BUILD_TYPE=Release \
-    -DQUADPHASE_BUILD_BENCH=OFF -DQUADPHASE_PACKAGE_TESTS=OFF -DQUADPHASE_INSTALL=OFF "$@"
+qp_configure_cross "$build_dir" cmake/toolchains/aarch64-linux-gnu.cmake "$@"
 qp_build "$build_dir"
 
 export QUADPHASE_DETERMINISM_STEPS=${QUADPHASE_DETERMINISM_STEPS:-120}
-log="$build_dir/ctest-arm64.log"
-set -x
-rc=0
-ctest --test-dir "$build_dir" --output-on-failure -j "$QP_JOBS" 2>&1 | tee "$log" || rc=$?
-set +x
-echo "$QP_NAME: ARM64 under qemu-aarch64: $(grep -E 'tests passed|tests failed' "$log" | tail -n 1)"
-exit "$rc"
+qp_ctest "$build_dir" "$build_dir/ctest-arm64.log" "ARM64 under qemu-aarch64"

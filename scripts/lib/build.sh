@@ -10,7 +10,12 @@
 #   qp_deps [SCRIPT [PKG...]]     run SCRIPT (default scripts/install-deps.sh) with PKG... unless QUADPHASE_SKIP_DEPS=1
 #   qp_configure DIR [ARG...]     cmake -S . -B DIR ARG... plus the Box2D source options from the environment
 #                                 (QUADPHASE_BOX2D_SOURCE_DIR, QUADPHASE_BOX2D_TARBALL); exits 1 with a message on failure
+#   qp_configure_cross DIR TOOLCHAIN [ARG...]
+#                                 qp_configure for a cross target's suite: the toolchain file, Release, no benchmarks,
+#                                 package tests or install rules
 #   qp_build DIR [TARGET...]      cmake --build DIR -j QP_JOBS [--target TARGET...]; exits 1 with a message on failure
+#   qp_ctest DIR LOG LABEL        ctest --test-dir DIR --output-on-failure -j QP_JOBS, its output also in LOG; then
+#                                 prints "QP_NAME: LABEL: <ctest's summary line>" last and returns ctest's status
 #   qp_exe DIR/PATH               DIR/PATH, or DIR/<dir of PATH>/Release/<name> (multi-config generators); exits 1 if
 #                                 neither is executable
 # With QP_LOG=1, qp_configure and qp_build write DIR/configure.log and DIR/build.log and show only their tails on
@@ -58,10 +63,24 @@ qp_configure() {
     _qp_run configure "$dir" "configuring $dir" cmake -S . -B "$dir" "${box2d[@]}" "${@:2}"
 }
 
+qp_configure_cross() {
+    qp_configure "$1" "-DCMAKE_TOOLCHAIN_FILE=$2" -DCMAKE_BUILD_TYPE=Release -DQUADPHASE_BUILD_BENCH=OFF \
+        -DQUADPHASE_PACKAGE_TESTS=OFF -DQUADPHASE_INSTALL=OFF "${@:3}"
+}
+
 qp_build() { # no TARGET: the default target
     local targets=()
     [[ $# -gt 1 ]] && targets=(--target "${@:2}")
     _qp_run build "$1" "building${2:+ ${*:2}} in $1" cmake --build "$1" -j "$QP_JOBS" "${targets[@]}"
+}
+
+qp_ctest() {
+    local rc=0
+    set -x
+    ctest --test-dir "$1" --output-on-failure -j "$QP_JOBS" 2>&1 | tee "$2" || rc=$?
+    { set +x; } 2>/dev/null
+    echo "$QP_NAME: $3: $(grep -E 'tests passed|tests failed' "$2" | tail -n 1)"
+    return "$rc"
 }
 
 qp_exe() {

@@ -3,6 +3,7 @@
 # source with the same flags.
 #   -DMODE=exports|abidiff -DSTOCK=<stock libbox2d.so.2> -DQUADPHASE=<quadphase's> -DNM=<nm>
 #   -DEXPECTED=<quadphase_exports.txt> -DABIDIFF=<abidiff> -DSUPPRESSIONS=<abidiff.suppr>
+#   -DOBJDUMP=<objdump> instead of NM: the libraries are Windows DLLs (box2d.dll), whose export tables objdump -p reads
 # exports: every dynamic symbol stock's library defines, quadphase's defines too; beyond them, exactly the extras
 #          EXPECTED lists (quadphase's public API, and b2BroadPhase's functions that are out of line here, inline or
 #          absent in stock): an extra not listed (an internal that leaked) fails, and so does a listed one that is
@@ -14,11 +15,18 @@ cmake_minimum_required(VERSION 3.20)
 
 if(MODE STREQUAL "exports")
     function(dynamic_symbols out lib)
-        execute_process(COMMAND "${NM}" -D --defined-only "${lib}" OUTPUT_VARIABLE text RESULT_VARIABLE rc)
-        if(NOT rc EQUAL 0)
-            message(FATAL_ERROR "${NM} failed on ${lib}")
+        if(OBJDUMP)
+            # The export table's name pointer lines, "\t[   3] name", as nm's " T name" (a DLL has no weak exports).
+            execute_process(COMMAND "${OBJDUMP}" -p "${lib}" OUTPUT_VARIABLE text RESULT_VARIABLE rc)
+            string(REGEX MATCHALL "\n\t\\[ *[0-9]+\\] [^\n]+" lines "${text}")
+            list(TRANSFORM lines REPLACE "^\n\t\\[ *[0-9]+\\]" " T")
+        else()
+            execute_process(COMMAND "${NM}" -D --defined-only "${lib}" OUTPUT_VARIABLE text RESULT_VARIABLE rc)
+            string(REGEX MATCHALL "[^\n]+" lines "${text}")
         endif()
-        string(REGEX MATCHALL "[^\n]+" lines "${text}")
+        if(NOT rc EQUAL 0)
+            message(FATAL_ERROR "reading the exports of ${lib} failed (${rc})")
+        endif()
         set(names "")
         set(weak "")
         foreach(line IN LISTS lines)
@@ -85,7 +93,7 @@ if(MODE STREQUAL "exports")
     message(STATUS "exported symbols: stock ${n_stock}, quadphase ${n_ours} (stock's + ${n_extras} extras; "
                    "${n_expected} listed)")
     if(n_stock LESS 400)
-        message(FATAL_ERROR "stock's library exports only ${n_stock} symbols: nm read nothing useful")
+        message(FATAL_ERROR "stock's library exports only ${n_stock} symbols: nm or objdump read nothing useful")
     endif()
     if(missing)
         string(REPLACE ";" "\n" text "${missing}")

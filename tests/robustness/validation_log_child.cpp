@@ -11,6 +11,10 @@
 #include <cstdlib>
 #include <cstring>
 
+#if defined(_WIN32)
+#include <windows.h>
+#endif
+
 #include "box2d_internal.h"
 #include "child_broad_phase.h"
 #include "quadphase/box2d.h"
@@ -50,7 +54,12 @@ int main(int argc, char** argv)
     std::fflush(stdout);
     if (std::strcmp(mode, "kill") == 0)
     {
+#if defined(_WIN32)
+        // Windows has no SIGKILL; TerminateProcess ends the process as abruptly (no handler, no flush, no atexit).
+        TerminateProcess(GetCurrentProcess(), 137);
+#else
         std::raise(SIGKILL);
+#endif
     }
     std::abort();
 }

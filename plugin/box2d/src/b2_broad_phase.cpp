@@ -7,6 +7,7 @@
 #include <cstddef>
 
 #include "box2d_types.h"
+#include "compiler.h"
 #include "broad_phase_state.h"
 
 using quadphase::detail::BroadPhaseObserver;
@@ -66,7 +67,7 @@ namespace
 
 // MoveProxy's out-of-line path: stock-tree mode, observers, bad input, unknown ids, a move the core cannot queue
 // on its fast path.
-__attribute__((noinline, cold)) void MoveProxySlow(BroadPhaseState& state, int32 proxyId, const b2AABB& aabb,
+QUADPHASE_NOINLINE QUADPHASE_COLD void MoveProxySlow(BroadPhaseState& state, int32 proxyId, const b2AABB& aabb,
                                                    const b2Vec2& displacement)
 {
     const int32 id = state.CoreId(proxyId);
@@ -82,9 +83,8 @@ __attribute__((noinline, cold)) void MoveProxySlow(BroadPhaseState& state, int32
 void b2BroadPhase::MoveProxy(int32 proxyId, const b2AABB& aabb, const b2Vec2& displacement)
 {
     BroadPhaseState& state = StateAt(m_state);
-    if (__builtin_expect(state.observers.Empty() && state.records.TryMove(state.core, proxyId, ToBox(aabb),
-                                                                          {displacement.x, displacement.y}),
-                         1))
+    if (QUADPHASE_LIKELY(state.observers.Empty() &&
+                         state.records.TryMove(state.core, proxyId, ToBox(aabb), {displacement.x, displacement.y})))
     {
         return;
     }

@@ -80,7 +80,7 @@ public:
         Box fat;
         std::memcpy(&fat, static_cast<const void*>(&record), sizeof fat);
         const bool changed = RefattenSimd(Box2DFatPolicy(), fat, tight, displacement);
-        if (__builtin_expect(!IsSaneSimd(tight), 0))
+        if (!QUADPHASE_LIKELY(IsSaneSimd(tight)))
         {
             return false; // reported by Move
         }

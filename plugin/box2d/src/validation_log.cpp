@@ -2,8 +2,12 @@
 // QUADPHASE_VALIDATE_LOG: see validation_log.h.
 #include "validation_log.h"
 
+#if defined(_WIN32)
+#include <process.h> // _getpid (MSVC has no unistd.h)
+#else
 #include <fcntl.h>
 #include <unistd.h>
+#endif
 
 #include <cerrno>
 #include <cstdio>
@@ -19,6 +23,15 @@ namespace detail
 {
 namespace
 {
+
+long ProcessId()
+{
+#if defined(_WIN32)
+    return static_cast<long>(_getpid());
+#else
+    return static_cast<long>(getpid());
+#endif
+}
 
 // `path` opened for appending (created 0666 less the umask, as fopen does), close-on-exec: the descriptor must not
 // leak into the children the program starts (a shell, a game's helper processes). nullptr with errno on failure.
@@ -75,7 +88,7 @@ struct ValidationLog
     // Called with `mutex` held. One fprintf per line, then fflush: the line is in the file before the call returns.
     void Line(const char* text)
     {
-        std::fprintf(file, "quadphase[%ld]: validation: %s\n", static_cast<long>(getpid()), text);
+        std::fprintf(file, "quadphase[%ld]: validation: %s\n", ProcessId(), text);
         std::fflush(file);
     }
 };

@@ -9,7 +9,9 @@
 
 #include <cstdint>
 
-#if defined(__SSE2__)
+#include "compiler.h"
+
+#if defined(QUADPHASE_SSE2)
 #include <emmintrin.h>
 #endif
 
@@ -19,7 +21,7 @@
 namespace quadphase
 {
 
-#if defined(__SSE2__)
+#if defined(QUADPHASE_SSE2)
 
 /// A query box prepared for OverlapsPrepared: (maxX, maxY, -minX, -minY).
 struct PreparedBox

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "compiler.h"
 #include "quadphase/box.h"
 
 namespace quadphase
@@ -57,10 +58,10 @@ public:
     /// Prefetch hints, for a caller about to change cells (they never read or write an entry): the cell's
     /// size and block, then (once those are in cache) the entry at `slot` of its block, which must be below
     /// its capacity.
-    void PrefetchCell(int32_t cell) const { __builtin_prefetch(&m_cells[size_t(cell)]); }
+    void PrefetchCell(int32_t cell) const { QUADPHASE_PREFETCH(&m_cells[size_t(cell)]); }
     void PrefetchSlot(int32_t cell, uint32_t slot) const
     {
-        __builtin_prefetch(m_entries.data() + m_cells[size_t(cell)].begin + slot);
+        QUADPHASE_PREFETCH(m_entries.data() + m_cells[size_t(cell)].begin + slot);
     }
 
     /// True when one more entry fits in the cell's block.

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "compiler.h"
 #include "quadphase/box.h"
 
 namespace quadphase
@@ -55,7 +56,7 @@ public:
     /// Inline: it runs on every MoveProxy; only the report is out of line.
     bool CheckLive(ProxyId id, const char* call) const
     {
-        if (__builtin_expect(IsLive(id), 1))
+        if (QUADPHASE_LIKELY(IsLive(id)))
         {
             return true;
         }
@@ -180,7 +181,7 @@ private:
         return fresh;
     }
 
-    __attribute__((noinline, cold)) void ReportUnknown(ProxyId id, const char* call) const;
+    QUADPHASE_NOINLINE QUADPHASE_COLD void ReportUnknown(ProxyId id, const char* call) const;
 
     std::vector<Box> m_fat;
     std::vector<void*> m_userData;

@@ -14,7 +14,7 @@ namespace
 // Number of significant bits of v > 0.
 int BitLength(uint32_t v)
 {
-    return 32 - __builtin_clz(v);
+    return 32 - compiler::CountLeadingZeros32(v);
 }
 
 } // namespace
@@ -210,8 +210,8 @@ int64_t Pyramid::UpdateBatch(const std::vector<ProxyId>& ids, const Box* boxes)
         if (i + kLocation < n)
         {
             const ProxyId id = ids[size_t(i + kLocation)];
-            __builtin_prefetch(&m_location[size_t(id)]);
-            __builtin_prefetch(&boxes[id]);
+            QUADPHASE_PREFETCH(&m_location[size_t(id)]);
+            QUADPHASE_PREFETCH(&boxes[id]);
         }
         if (i + kCell >= 0 && i + kCell < n)
         {
@@ -237,7 +237,7 @@ int64_t Pyramid::UpdateBatch(const std::vector<ProxyId>& ids, const Box* boxes)
         {
             // A stored id's cell holds at least that id, so the last entry exists.
             const Location& loc = m_location[size_t(ids[size_t(i + kMoved)])];
-            __builtin_prefetch(&m_location[size_t(m_store.Data(loc.cell)[m_store.Size(loc.cell) - 1].id)]);
+            QUADPHASE_PREFETCH(&m_location[size_t(m_store.Data(loc.cell)[m_store.Size(loc.cell) - 1].id)]);
         }
         if (i < 0)
         {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "cell_store.h"
+#include "compiler.h"
 #include "quadphase/box.h"
 #include "row_major.h"
 
@@ -241,7 +242,7 @@ void Pyramid::Visit(const Box& query, Visitor&& visit) const
     const LeafRange range{CoordX(query.minX), CoordY(query.minY), CoordX(query.maxX), CoordY(query.maxY)};
     for (uint32_t levels = m_occupiedLevels; levels != 0; levels &= levels - 1)
     {
-        if (!VisitLevel(__builtin_ctz(levels), range, visit))
+        if (!VisitLevel(compiler::CountTrailingZeros32(levels), range, visit))
         {
             return;
         }

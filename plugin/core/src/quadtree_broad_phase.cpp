@@ -53,7 +53,7 @@ void CheckTaskSystem(const TaskSystem& tasks)
 
 // Reports non-finite and inverted boxes. The box is stored anyway: Pyramid places any box somewhere (NaN maps to
 // cell 0), and Overlaps answers false for NaN, so a corrupted proxy gets no pairs and the others keep theirs.
-__attribute__((noinline)) void ReportBadBox(const Box& b, const char* call, ProxyId id)
+QUADPHASE_NOINLINE void ReportBadBox(const Box& b, const char* call, ProxyId id)
 {
     if (!IsFinite(b))
     {

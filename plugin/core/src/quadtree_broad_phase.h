@@ -13,6 +13,7 @@
 #include "box_mirror.h"
 #include "box_simd.h"
 #include "broad_phase_interface.h"
+#include "compiler.h"
 #include "fat_policy.h"
 #include "proxy_pool.h"
 #include "pyramid.h"
@@ -79,9 +80,8 @@ public:
         // Inline fast path (Box2D calls this once per moving fixture, on one thread); anything unusual (unknown
         // id, bad box, a second move of the proxy, timing on, a queue of QueueFatMove's) takes the out-of-line path.
         // int operands: & on bools is what is meant (no short-circuit branches), and clang warns otherwise.
-        if (__builtin_expect(int(m_pool.IsLiveAndNotPending(id)) & int(IsSaneSimd(tight)) &
-                                 int(m_queuedCount < m_fastRoom),
-                             1))
+        if (QUADPHASE_LIKELY(int(m_pool.IsLiveAndNotPending(id)) & int(IsSaneSimd(tight)) &
+                             int(m_queuedCount < m_fastRoom)))
         {
             Enqueue(id, tight, displacement);
             return;
@@ -102,7 +102,7 @@ public:
     /// reverse, applies the queue first (in call order, so the outcome is the same).
     void QueueFatMove(ProxyId id, const Box& tight, const Box& fat)
     {
-        if (__builtin_expect(IsSaneSimd(tight) && TryQueueFatMove(id, fat), 1)) // a bad box queues nothing
+        if (QUADPHASE_LIKELY(IsSaneSimd(tight) && TryQueueFatMove(id, fat))) // a bad box queues nothing
         {
             return;
         }

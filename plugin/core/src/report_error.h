@@ -3,16 +3,13 @@
 // (quadphase/error.h). The core and the Box2D adapter call it; users do not.
 #pragma once
 
+#include "compiler.h"
 #include "quadphase/error.h"
 
 namespace quadphase
 {
 
 /// Reports an error through the installed handler. printf-style.
-void ReportError(ErrorCode code, const char* format, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 2, 3)))
-#endif
-    ;
+void ReportError(ErrorCode code, const char* format, ...) QUADPHASE_PRINTF_FORMAT(2, 3);
 
 } // namespace quadphase

@@ -210,15 +210,17 @@ inline void* b2BroadPhase::GetUserData(int32 proxyId) const
     return 0 <= proxyId && proxyId < m_tree.nodeCapacity ? m_tree.nodes[proxyId].userData : nullptr;
 }
 
-inline bool b2BroadPhase::TestOverlap(int32 proxyIdA, int32 proxyIdB) const
-{
-    return b2TestOverlap(GetFatAABB(proxyIdA), GetFatAABB(proxyIdB));
-}
-
+// Defined before TestOverlap, which calls it: MinGW-w64's GCC warns when a member of an imported class (B2_API with
+// B2_SHARED: dllimport) is defined inline after a use.
 inline const b2AABB& b2BroadPhase::GetFatAABB(int32 proxyId) const
 {
     b2Assert(0 <= proxyId && proxyId < m_tree.nodeCapacity);
     return m_tree.nodes[proxyId].aabb;
+}
+
+inline bool b2BroadPhase::TestOverlap(int32 proxyIdA, int32 proxyIdB) const
+{
+    return b2TestOverlap(GetFatAABB(proxyIdA), GetFatAABB(proxyIdB));
 }
 
 inline int32 b2BroadPhase::GetProxyCount() const

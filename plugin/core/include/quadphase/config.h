@@ -3,6 +3,7 @@
 #pragma once
 
 #include "quadphase/box.h"
+#include "quadphase/export.h"
 #include "quadphase/task_system.h"
 
 namespace quadphase
@@ -100,7 +101,7 @@ struct Config
 /// Whether this build of the library has OpenMP (built with QUADPHASE_OPENMP=ON), that is whether Executor::OpenMP
 /// runs in parallel. When false, Executor::OpenMP runs serially (see Config::threads); the pool, the default, and a
 /// Config::taskSystem run in parallel in every build.
-bool OpenMPAvailable();
+QUADPHASE_API bool OpenMPAvailable();
 
 /// Deepest pyramid allowed: 4^12 leaf cells already cost hundreds of MB.
 constexpr int kMaxDepth = 12;

@@ -2,6 +2,8 @@
 // The error hook: how bad input (non-finite or inverted boxes, unknown proxy ids) is reported.
 #pragma once
 
+#include "quadphase/export.h"
+
 namespace quadphase
 {
 
@@ -27,15 +29,15 @@ using ErrorHandler = void (*)(ErrorCode code, const char* message, void* context
 /// after printing. A bad box is reported once per proxy (the first one it gets), not once per call, so a
 /// runaway body costs one line, not one per step; unknown ids are reported at every call.
 /// Not thread-safe: install it before creating broadphases.
-ErrorHandler SetErrorHandler(ErrorHandler handler, void* context = nullptr);
+QUADPHASE_API ErrorHandler SetErrorHandler(ErrorHandler handler, void* context = nullptr);
 
 /// Strict mode: the default handler aborts after printing, like an assert (for tests and debugging). Off by
 /// default; also switched on by QUADPHASE_STRICT=1 in the environment (read at the first report; ignored, as every
 /// QUADPHASE_* variable, by set-user-ID and set-group-ID programs). Has no effect on an installed handler. Returns
 /// the previous setting. Not thread-safe, like SetErrorHandler.
-bool SetStrictErrors(bool strict);
+QUADPHASE_API bool SetStrictErrors(bool strict);
 
 /// Human-readable name of a code ("engine adapter error" for every adapter code: its message says more).
-const char* ErrorCodeName(ErrorCode code);
+QUADPHASE_API const char* ErrorCodeName(ErrorCode code);
 
 } // namespace quadphase
