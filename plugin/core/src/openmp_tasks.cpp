@@ -54,12 +54,7 @@ void StartOpenMPTeam(int threads)
 
 TaskSystem OpenMPTasks::Get()
 {
-    TaskSystem tasks;
-    tasks.enqueueTask = &Enqueue;
-    tasks.finishTask = &Finish;
-    tasks.workerCount = std::max(1, m_threads);
-    tasks.userContext = this;
-    return tasks;
+    return TaskSystem{&Enqueue, &Finish, std::max(1, m_threads), this};
 }
 
 void* OpenMPTasks::Enqueue(TaskCallback* task, int itemCount, int minRange, void* taskContext,

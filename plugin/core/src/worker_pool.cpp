@@ -219,12 +219,7 @@ void WorkerPool::WorkerLoop()
 
 TaskSystem WorkerPool::Tasks::Get()
 {
-    TaskSystem tasks;
-    tasks.enqueueTask = &Enqueue;
-    tasks.finishTask = &Finish;
-    tasks.workerCount = std::max(1, m_participants);
-    tasks.userContext = this;
-    return tasks;
+    return TaskSystem{&Enqueue, &Finish, std::max(1, m_participants), this};
 }
 
 void* WorkerPool::Tasks::Enqueue(TaskCallback* task, int itemCount, int minRange, void* taskContext,
