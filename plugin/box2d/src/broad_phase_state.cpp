@@ -19,8 +19,11 @@ namespace
 
 void* NewStateBlock(BroadPhaseState* state, int32 capacity)
 {
+    // One int32 more than the capacity: b2BroadPhase keeps block + kStateHeader, which must point into the block and
+    // not one past its end (capacity 0), or leak checkers (LeakSanitizer, Valgrind) do not see the state reachable
+    // from a live world and report it, and all it holds, as leaked.
     unsigned char* block =
-        static_cast<unsigned char*>(b2Alloc(int32(kStateHeader) + capacity * int32(sizeof(int32))));
+        static_cast<unsigned char*>(b2Alloc(int32(kStateHeader) + (capacity + 1) * int32(sizeof(int32))));
     std::memcpy(block, &state, sizeof state);
     return block + kStateHeader;
 }
