@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: MIT
 // Which threads the library starts, counted in the process (/proc/self/status, on Windows a snapshot of the system's
-// threads; the pool's own threads by the name they carry, /proc/self/task/*/comm). Each test case runs in a process of
-// its own (see CMakeLists.txt), so that no earlier test has started a team already.
+// threads; the pool's own threads by the name they carry, /proc/self/task/*/comm, on Windows GetThreadDescription).
+// Each test case runs in a process of its own (see CMakeLists.txt), so that no earlier test has started a team
+// already.
 #include <catch2/catch.hpp>
 
 #include <chrono>
 #include <cstdint>
+#include <cwchar>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -56,13 +58,40 @@ int ThreadCount()
 #endif
 }
 
-// Threads named "quadphase": the library's pool (plugin/core/src/worker_pool.cpp names them, with glibc). Linux only
-// (the test cases that call it are not registered on Windows).
+// Threads named "quadphase": the library's pool (plugin/core/src/worker_pool.cpp names them: with glibc as it starts
+// them, on Windows each worker itself as it starts, so count there with PoolThreadCountOnceSettled).
 int PoolThreadCount()
 {
 #if defined(_WIN32)
-    FAIL("the pool's threads are counted by their names in /proc/self/task");
-    return -1;
+    using GetThreadDescriptionFn = HRESULT(WINAPI*)(HANDLE, PWSTR*);
+    const FARPROC proc = GetProcAddress(GetModuleHandleW(L"kernel32.dll"), "GetThreadDescription");
+    REQUIRE(proc != nullptr); // Windows 10 1607 and later, and Wine, have it
+    const auto getDescription = reinterpret_cast<GetThreadDescriptionFn>(reinterpret_cast<void (*)()>(proc));
+    const HANDLE snapshot = CreateToolhelp32Snapshot(TH32CS_SNAPTHREAD, 0);
+    REQUIRE(snapshot != INVALID_HANDLE_VALUE);
+    THREADENTRY32 entry;
+    entry.dwSize = sizeof(entry);
+    int count = 0;
+    for (BOOL more = Thread32First(snapshot, &entry); more; more = Thread32Next(snapshot, &entry))
+    {
+        if (entry.th32OwnerProcessID != GetCurrentProcessId())
+        {
+            continue;
+        }
+        const HANDLE thread = OpenThread(THREAD_QUERY_LIMITED_INFORMATION, FALSE, entry.th32ThreadID);
+        PWSTR name = nullptr;
+        if (thread != nullptr && SUCCEEDED(getDescription(thread, &name)) && name != nullptr)
+        {
+            count += std::wcscmp(name, L"quadphase") == 0 ? 1 : 0;
+            LocalFree(name);
+        }
+        if (thread != nullptr)
+        {
+            CloseHandle(thread);
+        }
+    }
+    CloseHandle(snapshot);
+    return count;
 #else
     int count = 0;
     for (const auto& task : std::filesystem::directory_iterator("/proc/self/task"))
@@ -128,8 +157,8 @@ TEST_CASE("with the defaults, a large scene starts the library's pool when it is
     REQUIRE(quadphase::GetConfig(*scene.world).parallelMinProxies <= 20000);
     REQUIRE(quadphase::GetConfig(*scene.world).executor == quadphase::Executor::Pool);
     const int built = ThreadCount();
-    CHECK(built == before + 2);    // OMP_NUM_THREADS=3: the caller and two workers, started in CreateProxy
-    CHECK(PoolThreadCount() == 2); // the pool's, none of OpenMP's
+    CHECK(built == before + 2); // OMP_NUM_THREADS=3: the caller and two workers, started in CreateProxy
+    CHECK(PoolThreadCountOnceSettled(2) == 2); // the pool's, none of OpenMP's
     const quadphase::Stats stats = StepScene(scene, 30);
     CHECK(stats.parallelCalls > 0); // the measured choice tried them at least
     CHECK(ThreadCount() == built);  // no step started one
@@ -183,14 +212,14 @@ TEST_CASE("worlds share the pool's threads, and the last world destroyed ends th
                 config.threads = 4;
                 quadphase::Configure(*scene->world, config);
             }
-            REQUIRE(PoolThreadCount() == 3);
+            REQUIRE(PoolThreadCountOnceSettled(3) == 3);
             CHECK(StepScene(a, 5).parallelCalls > 0);
             CHECK(StepScene(b, 5).parallelCalls > 0);
             // A world that goes over to OpenMP lets go of the pool; the other one still holds it.
             quadphase::Config openmp = quadphase::GetConfig(*a.world);
             openmp.executor = quadphase::Executor::OpenMP;
             quadphase::Configure(*a.world, openmp);
-            CHECK(PoolThreadCount() == 3);
+            CHECK(PoolThreadCountOnceSettled(3) == 3);
         }
         REQUIRE(PoolThreadCountOnceSettled(0) == 0);
     }
