@@ -11,7 +11,7 @@
 #     tests here already (with the installed libbox2d.so needing no OpenMP runtime);
 #   - the benchmarks (bench/ needs OpenMP).
 #
-# Exit status: non-zero when a test fails.
+# Prints ctest's summary line last; exits with ctest's status.
 # Environment: BUILD_DIR (default build-no-openmp), JOBS (default nproc), QUADPHASE_SKIP_DEPS=1,
 #              QUADPHASE_BOX2D_SOURCE_DIR / QUADPHASE_BOX2D_TARBALL as for scripts/test.sh.
 # Extra arguments are passed to ctest (e.g. -R core).
@@ -28,5 +28,5 @@ if grep -q '^QUADPHASE_OPENMP:BOOL=ON' "$build_dir/CMakeCache.txt"; then
     exit 1
 fi
 qp_build "$build_dir"
-set -x
-ctest --test-dir "$build_dir" --output-on-failure -j "$QP_JOBS" -E '^package_add_subdirectory$' "$@"
+qp_ctest "$build_dir" "$build_dir/ctest-no-openmp.log" "clang-14 + libc++ without OpenMP" \
+    -E '^package_add_subdirectory$' "$@"

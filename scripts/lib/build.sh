@@ -14,8 +14,9 @@
 #                                 qp_configure for a cross target's suite: the toolchain file, Release, no benchmarks,
 #                                 package tests or install rules
 #   qp_build DIR [TARGET...]      cmake --build DIR -j QP_JOBS [--target TARGET...]; exits 1 with a message on failure
-#   qp_ctest DIR LOG LABEL        ctest --test-dir DIR --output-on-failure -j QP_JOBS, its output also in LOG; then
-#                                 prints "QP_NAME: LABEL: <ctest's summary line>" last and returns ctest's status
+#   qp_ctest DIR LOG LABEL [ARG...]
+#                                 ctest --test-dir DIR --output-on-failure -j QP_JOBS ARG..., its output also in LOG;
+#                                 then prints "QP_NAME: LABEL: <ctest's summary line>" last and returns ctest's status
 #   qp_exe DIR/PATH               DIR/PATH, or DIR/<dir of PATH>/Release/<name> (multi-config generators); exits 1 if
 #                                 neither is executable
 # With QP_LOG=1, qp_configure and qp_build write DIR/configure.log and DIR/build.log and show only their tails on
@@ -77,7 +78,7 @@ qp_build() { # no TARGET: the default target
 qp_ctest() {
     local rc=0
     set -x
-    ctest --test-dir "$1" --output-on-failure -j "$QP_JOBS" 2>&1 | tee "$2" || rc=$?
+    ctest --test-dir "$1" --output-on-failure -j "$QP_JOBS" "${@:4}" 2>&1 | tee "$2" || rc=$?
     { set +x; } 2>/dev/null
     echo "$QP_NAME: $3: $(grep -E 'tests passed|tests failed' "$2" | tail -n 1)"
     return "$rc"

@@ -17,19 +17,34 @@ using quadphase::detail::NewState;
 using quadphase::detail::StateAt;
 using quadphase::detail::ToBox;
 
-static_assert(sizeof(b2BroadPhase) == 80 && alignof(b2BroadPhase) == 8,
-              "b2BroadPhase must keep stock's size");
-
-// The layout promises of b2_broad_phase.h are checked here, where the private members can be named.
+// The layout promises of b2_broad_phase.h, checked where the private members can be named, against stock's members
+// in stock's order and types: 80 bytes, m_moveBuffer at 40, on 64-bit targets; 56 and 28 on WebAssembly's 32-bit one.
 b2BroadPhase::b2BroadPhase()
 {
-    static_assert(
-        offsetof(b2BroadPhase, m_tree) == 0 && offsetof(b2BroadPhase, m_proxyCount) == 32 &&
-            offsetof(b2BroadPhase, m_state) == quadphase::detail::kStateOffset &&
-            offsetof(b2BroadPhase, m_moveCount) == 52 && offsetof(b2BroadPhase, m_pairBuffer) == 56 &&
-            offsetof(b2BroadPhase, m_queryProxyId) == 72 && sizeof(b2TreeView) == sizeof(b2DynamicTree) &&
-            alignof(b2TreeView) == alignof(b2DynamicTree),
-        "b2BroadPhase must keep stock's member offsets, and m_tree b2DynamicTree's layout");
+    struct StockLayout
+    {
+        b2DynamicTree tree;
+        int32 proxyCount;
+        int32* moveBuffer;
+        int32 moveCapacity;
+        int32 moveCount;
+        b2Pair* pairBuffer;
+        int32 pairCapacity;
+        int32 pairCount;
+        int32 queryProxyId;
+    };
+    static_assert(sizeof(b2BroadPhase) == sizeof(StockLayout) && alignof(b2BroadPhase) == alignof(StockLayout),
+                  "b2BroadPhase must keep stock's size");
+    static_assert(offsetof(b2BroadPhase, m_tree) == offsetof(StockLayout, tree) &&
+                      offsetof(b2BroadPhase, m_proxyCount) == offsetof(StockLayout, proxyCount) &&
+                      offsetof(b2BroadPhase, m_state) == offsetof(StockLayout, moveBuffer) &&
+                      offsetof(b2BroadPhase, m_state) == quadphase::detail::kStateOffset &&
+                      offsetof(b2BroadPhase, m_moveCount) == offsetof(StockLayout, moveCount) &&
+                      offsetof(b2BroadPhase, m_pairBuffer) == offsetof(StockLayout, pairBuffer) &&
+                      offsetof(b2BroadPhase, m_queryProxyId) == offsetof(StockLayout, queryProxyId),
+                  "b2BroadPhase must keep stock's member offsets");
+    static_assert(sizeof(b2TreeView) == sizeof(b2DynamicTree) && alignof(b2TreeView) == alignof(b2DynamicTree),
+                  "b2BroadPhase::m_tree must have b2DynamicTree's layout");
     m_tree = b2TreeView{b2_nullNode, nullptr, 0, 0, b2_nullNode, 0};
     m_proxyCount = 0;
     m_queryProxyId = e_nullProxy;

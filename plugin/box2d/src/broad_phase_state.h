@@ -79,8 +79,9 @@ void* GrowStateBlock(void* block, int32 count, int32 capacity);
 
 /// The state of `broadPhase`. quadphase's free functions (<quadphase/box2d.h>) cannot name b2BroadPhase's private
 /// members, so they read the opaque pointer from the object's bytes at kStateOffset, which b2BroadPhase's
-/// constructor checks against offsetof at compile time, and the state pointer in the block's header.
-constexpr size_t kStateOffset = 40;
+/// constructor checks against offsetof at compile time, and the state pointer in the block's header. Stock's
+/// m_moveBuffer follows b2DynamicTree (an int32, a pointer, four int32) and m_proxyCount.
+constexpr size_t kStateOffset = sizeof(void*) == 8 ? 40 : 28;
 BroadPhaseState& StateOf(b2BroadPhase& broadPhase);
 const BroadPhaseState& StateOf(const b2BroadPhase& broadPhase);
 
