@@ -29,9 +29,12 @@ namespace
 
 using quadphase::scenes::SceneId;
 
-int ThreadCount()
-{
 #if defined(_WIN32)
+// How many of this process's threads `counts` (a function of the thread's id returning 0 or 1) counts, from a
+// snapshot of the system's threads.
+template <typename Counts>
+int CountOwnThreads(Counts counts)
+{
     const HANDLE snapshot = CreateToolhelp32Snapshot(TH32CS_SNAPTHREAD, 0);
     REQUIRE(snapshot != INVALID_HANDLE_VALUE);
     THREADENTRY32 entry;
@@ -39,10 +42,17 @@ int ThreadCount()
     int count = 0;
     for (BOOL more = Thread32First(snapshot, &entry); more; more = Thread32Next(snapshot, &entry))
     {
-        count += entry.th32OwnerProcessID == GetCurrentProcessId() ? 1 : 0;
+        count += entry.th32OwnerProcessID == GetCurrentProcessId() ? counts(entry.th32ThreadID) : 0;
     }
     CloseHandle(snapshot);
     return count;
+}
+#endif
+
+int ThreadCount()
+{
+#if defined(_WIN32)
+    return CountOwnThreads([](DWORD) { return 1; });
 #else
     std::ifstream status("/proc/self/status");
     std::string line;
@@ -67,31 +77,21 @@ int PoolThreadCount()
     const FARPROC proc = GetProcAddress(GetModuleHandleW(L"kernel32.dll"), "GetThreadDescription");
     REQUIRE(proc != nullptr); // Windows 10 1607 and later, and Wine, have it
     const auto getDescription = reinterpret_cast<GetThreadDescriptionFn>(reinterpret_cast<void (*)()>(proc));
-    const HANDLE snapshot = CreateToolhelp32Snapshot(TH32CS_SNAPTHREAD, 0);
-    REQUIRE(snapshot != INVALID_HANDLE_VALUE);
-    THREADENTRY32 entry;
-    entry.dwSize = sizeof(entry);
-    int count = 0;
-    for (BOOL more = Thread32First(snapshot, &entry); more; more = Thread32Next(snapshot, &entry))
-    {
-        if (entry.th32OwnerProcessID != GetCurrentProcessId())
-        {
-            continue;
-        }
-        const HANDLE thread = OpenThread(THREAD_QUERY_LIMITED_INFORMATION, FALSE, entry.th32ThreadID);
+    return CountOwnThreads([getDescription](DWORD id) {
+        int named = 0;
+        const HANDLE thread = OpenThread(THREAD_QUERY_LIMITED_INFORMATION, FALSE, id);
         PWSTR name = nullptr;
         if (thread != nullptr && SUCCEEDED(getDescription(thread, &name)) && name != nullptr)
         {
-            count += std::wcscmp(name, L"quadphase") == 0 ? 1 : 0;
+            named = std::wcscmp(name, L"quadphase") == 0 ? 1 : 0;
             LocalFree(name);
         }
         if (thread != nullptr)
         {
             CloseHandle(thread);
         }
-    }
-    CloseHandle(snapshot);
-    return count;
+        return named;
+    });
 #else
     int count = 0;
     for (const auto& task : std::filesystem::directory_iterator("/proc/self/task"))
