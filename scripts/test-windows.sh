@@ -33,5 +33,14 @@ fi
 
 qp_build "$build_dir"
 
+# One Wine server for the whole run, with Wine's own services (services.exe, winedevice.exe, rpcss.exe, ...) started
+# once, here, and stopped at the end. Left to itself the server exits a few seconds after the last Windows program
+# ends and starts again, services and all, with the next one: a test started in that moment failed in 0.02 s with no
+# output in a CI run. wineboot starts the services with no terminal or pipe of a test's: a service started by a test
+# would keep that test's output pipe open, and ctest would wait for it to close until the server is stopped.
+wineserver -p
+trap 'wineserver -k >/dev/null 2>&1 || true' EXIT
+wine wineboot </dev/null >/dev/null 2>&1 || true
+
 export QUADPHASE_DETERMINISM_STEPS=${QUADPHASE_DETERMINISM_STEPS:-120}
 qp_ctest "$build_dir" "$build_dir/ctest-windows.log" "Windows x86-64 under Wine"
