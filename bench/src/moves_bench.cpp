@@ -10,7 +10,8 @@
 // timed steps, where every run of consecutive MoveProxy calls (Box2D's b2Body::SynchronizeFixtures over the awake
 // bodies) gets one clock-read pair; UpdatePairs calls are timed apart. Prints, per repeat (a fresh broadphase
 // each) and as the median over the repeats: ns per MoveProxy (the replay loop's dispatch included, the same for
-// both builds) and UpdatePairs ms per step. Under callgrind, count MoveProxy alone with
+// both builds), the dispatch alone (the same runs of the same calls, timed the same way, into an empty function
+// that is not inlined), MoveProxy net of it, and UpdatePairs ms per step. Under callgrind, count MoveProxy alone with
 //   valgrind --tool=callgrind --toggle-collect='b2BroadPhase::MoveProxy*' qp-moves-<variant> --trace FILE
 // and divide the total by the calls callgrind_annotate --inclusive=yes lists for it.
 #include <algorithm>
@@ -40,10 +41,19 @@ struct Counter
 struct RepeatResult
 {
     int64_t moveNs = 0;
+    int64_t dispatchNs = 0;
     int64_t moves = 0;
     int64_t updateNs = 0;
     int64_t pairs = 0;
 };
+
+// MoveProxy's signature, doing nothing, and kept out of line and opaque so that the compiler keeps the calls and
+// their arguments: the replay loop's dispatch, measured alone.
+__attribute__((noinline)) void EmptyMove(b2BroadPhase* bp, int32 proxyId, const b2AABB& aabb,
+                                         const b2Vec2& displacement)
+{
+    __asm__ volatile("" : : "r"(bp), "r"(proxyId), "r"(&aabb), "r"(&displacement) : "memory");
+}
 
 // The quadtree with the library's default Config (UpdatePairs parallel from Config::parallelMinProxies proxies).
 RepeatResult ReplayOnce(const qpbench::LoadedTrace& loaded)
@@ -72,6 +82,14 @@ RepeatResult ReplayOnce(const qpbench::LoadedTrace& loaded)
             const int64_t t1 = NowNs();
             if (timed)
             {
+                // The loop's own cost: the same calls, read and converted the same way, into EmptyMove.
+                const int64_t e0 = NowNs();
+                for (size_t k = i; k < j; ++k)
+                {
+                    const TraceOp& m = ops[k];
+                    EmptyMove(&bp, map[size_t(m.id)], ToAabb(m.box), b2Vec2(m.displacement.x, m.displacement.y));
+                }
+                result.dispatchNs += NowNs() - e0;
                 result.moveNs += t1 - t0;
                 result.moves += int64_t(j - i);
             }
@@ -133,17 +151,21 @@ int main(int argc, char** argv)
 
     std::printf("%s (%s build of b2BroadPhase): %s, %d timed steps, %d repeats\n", tool.c_str(), kVariant,
                 loaded.name.c_str(), loaded.steps.steps, repeats);
-    std::printf("%8s %12s %14s %18s %12s\n", "repeat", "moves/step", "ns/MoveProxy", "UpdatePairs_ms/step",
-                "pairs");
-    std::vector<double> perMove, perStep;
+    std::printf("%8s %12s %14s %12s %12s %18s %12s\n", "repeat", "moves/step", "ns/MoveProxy", "dispatch_ns",
+                "net_ns", "UpdatePairs_ms/step", "pairs");
+    std::vector<double> perMove, perDispatch, perNet, perStep;
     for (int r = 0; r < repeats; ++r)
     {
         const RepeatResult run = ReplayOnce(loaded);
-        perMove.push_back(run.moves > 0 ? double(run.moveNs) / double(run.moves) : 0.0);
+        const double calls = run.moves > 0 ? double(run.moves) : 1.0;
+        perMove.push_back(double(run.moveNs) / calls);
+        perDispatch.push_back(double(run.dispatchNs) / calls);
+        perNet.push_back(perMove.back() - perDispatch.back());
         perStep.push_back(double(run.updateNs) * 1e-6 / steps);
-        std::printf("%8d %12.0f %14.2f %18.4f %12lld\n", r, double(run.moves) / steps, perMove.back(),
-                    perStep.back(), static_cast<long long>(run.pairs));
+        std::printf("%8d %12.0f %14.2f %12.2f %12.2f %18.4f %12lld\n", r, double(run.moves) / steps, perMove.back(),
+                    perDispatch.back(), perNet.back(), perStep.back(), static_cast<long long>(run.pairs));
     }
-    std::printf("%8s %12s %14.2f %18.4f\n", "median", "", Median(perMove), Median(perStep));
+    std::printf("%8s %12s %14.2f %12.2f %12.2f %18.4f\n", "median", "", Median(perMove), Median(perDispatch),
+                Median(perNet), Median(perStep));
     return 0;
 }

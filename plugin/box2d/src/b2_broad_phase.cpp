@@ -5,6 +5,8 @@
 #include "box2d/b2_broad_phase.h"
 
 #include <cstddef>
+#include <cstdint>
+#include <cstring>
 
 #include "box2d_types.h"
 #include "compiler.h"
@@ -92,18 +94,34 @@ QUADPHASE_NOINLINE QUADPHASE_COLD void MoveProxySlow(BroadPhaseState& state, int
 
 } // namespace
 
-// Box2D calls it for every fixture of every awake body, on one thread: the common case (no observer, a record,
-// a sane box) is the fat-box test, plus the record and a queue append when the box changed; the cell upkeep waits
-// for UpdatePairs.
+// Box2D calls it for every fixture of every awake body, on one thread. The common case (records kept, no observer,
+// a live proxy, a sane box) reads m_tree's members, m_state's header and the proxy's record: the fat-box test and
+// the box's sanity as one mask, a return when the fat box is kept. When it changed, the record and a queue append
+// (NodeRecords::TryMoveChanged); the cell upkeep waits for UpdatePairs. Everything else goes to MoveProxySlow.
 void b2BroadPhase::MoveProxy(int32 proxyId, const b2AABB& aabb, const b2Vec2& displacement)
 {
-    BroadPhaseState& state = StateAt(m_state);
-    if (QUADPHASE_LIKELY(state.observers.Empty() &&
-                         state.records.TryMove(state.core, proxyId, ToBox(aabb), {displacement.x, displacement.y})))
+    using quadphase::detail::FastMovesAt;
+    using quadphase::detail::NodeRecords;
+    const quadphase::Box tight = ToBox(aabb);
+    const quadphase::Vec2 d{displacement.x, displacement.y};
+    // & rather than &&: both loads are independent, and one branch predicts better than two.
+    if (QUADPHASE_LIKELY(FastMovesAt(m_state) & int32(uint32_t(proxyId) < uint32_t(m_tree.nodeCapacity))))
     {
-        return;
+        b2TreeNode& node = m_tree.nodes[proxyId];
+        if (QUADPHASE_LIKELY(node.height == 0)) // a live proxy's record
+        {
+            quadphase::Box stored;
+            std::memcpy(&stored, static_cast<const void*>(&node.aabb), sizeof stored);
+            quadphase::Box fat;
+            if (QUADPHASE_LIKELY(quadphase::KeptAndSaneSimd(quadphase::detail::Box2DFatPolicy(), stored, tight, d,
+                                                             fat)) ||
+                NodeRecords::TryMoveChanged(StateAt(m_state).core, node, proxyId, tight, fat))
+            {
+                return;
+            }
+        }
     }
-    MoveProxySlow(state, proxyId, aabb, displacement);
+    MoveProxySlow(StateAt(m_state), proxyId, aabb, displacement);
 }
 
 void b2BroadPhase::TouchProxy(int32 proxyId)

@@ -25,6 +25,8 @@ void* NewStateBlock(BroadPhaseState* state, int32 capacity)
     unsigned char* block =
         static_cast<unsigned char*>(b2Alloc(int32(kStateHeader) + (capacity + 1) * int32(sizeof(int32))));
     std::memcpy(block, &state, sizeof state);
+    const int32 fast = state->FastMoves() ? 1 : 0;
+    std::memcpy(block + kFastMovesOffset, &fast, sizeof fast);
     return block + kStateHeader;
 }
 
@@ -37,7 +39,7 @@ void FreeStateBlock(void* block)
 
 BroadPhaseState::BroadPhaseState(const StockMembers& members, bool withStockTree)
     : core(Box2DFatPolicy()), records(withStockTree ? nullptr : &members),
-      stockTree(withStockTree ? new StockTreeMode(members) : nullptr)
+      stockTree(withStockTree ? new StockTreeMode(members) : nullptr), m_block(members.state)
 {
     ListObservers();
 }
@@ -69,12 +71,18 @@ void BroadPhaseState::ListObservers()
         }
     }
     observers.Assign(std::move(list));
+    if (*m_block != nullptr) // null while NewState builds the state
+    {
+        const int32 fast = FastMoves() ? 1 : 0;
+        std::memcpy(static_cast<unsigned char*>(*m_block) - kStateHeader + kFastMovesOffset, &fast, sizeof fast);
+    }
 }
 
 void NewState(const StockMembers& members)
 {
     *members.moveCapacity = *members.moveCount = *members.pairCapacity = *members.pairCount = 0;
     *members.pairBuffer = nullptr; // stock-tree mode's constructor gives stock's buffers
+    *members.state = nullptr;
     std::unique_ptr<BroadPhaseState> state(
         new BroadPhaseState(members, EnvironmentFlag("QUADPHASE_STOCK_TREE")));
     state->SetValidation(EnvironmentFlag("QUADPHASE_VALIDATE"));

@@ -36,6 +36,11 @@ struct BroadPhaseState
     std::unique_ptr<BroadPhaseObserver> trace;      // quadphase::SetTrace (trace_observer.h)
     std::unique_ptr<BroadPhaseObserver> validation; // validation mode (validation_observer.h)
 
+    /// Whether MoveProxy may take its inline path, which reads m_tree's node array as the records and tells no
+    /// observer: node records kept (not stock-tree mode) and no observer. Kept in m_state's block header
+    /// (FastMovesAt), rewritten whenever the observers change.
+    bool FastMoves() const { return records.Kept() && observers.Empty(); }
+
     /// Whether the ids b2BroadPhase hands out are the core's: always, except in stock-tree mode.
     bool HandsOutCoreIds() const { return stockTree == nullptr; }
 
@@ -50,12 +55,17 @@ struct BroadPhaseState
 
 private:
     void ListObservers();
+
+    void* const* m_block; // b2BroadPhase::m_state: its header's fast-moves flag follows FastMoves()
 };
 
-/// b2BroadPhase's m_state (stock's m_moveBuffer) points kStateHeader bytes into a block that starts with the
-/// BroadPhaseState pointer. What follows the header is an int32 array: stock's move buffer in stock-tree mode
-/// (stock's inline UpdatePairs reads it), empty otherwise.
+/// b2BroadPhase's m_state (stock's m_moveBuffer) points kStateHeader bytes into a block whose header holds the
+/// BroadPhaseState pointer, then (kFastMovesOffset) the fast-moves flag. What follows the header is an int32 array:
+/// stock's move buffer in stock-tree mode (stock's inline UpdatePairs reads it), empty otherwise.
 constexpr size_t kStateHeader = 16;
+constexpr size_t kFastMovesOffset = 8;
+static_assert(sizeof(void*) <= kFastMovesOffset && kFastMovesOffset + sizeof(int32) <= kStateHeader,
+              "the state pointer and the fast-moves flag must fit m_state's block header");
 
 /// The state m_state's block holds. Inline: every b2BroadPhase call starts here.
 inline BroadPhaseState& StateAt(const void* block)
@@ -63,6 +73,15 @@ inline BroadPhaseState& StateAt(const void* block)
     BroadPhaseState* state;
     std::memcpy(&state, static_cast<const unsigned char*>(block) - kStateHeader, sizeof state);
     return *state;
+}
+
+/// The fast-moves flag of m_state's block (BroadPhaseState::FastMoves), read by b2BroadPhase::MoveProxy beside
+/// m_tree's members, one load from m_state instead of three through the state: 1 or 0.
+inline int32 FastMovesAt(const void* block)
+{
+    int32 flag;
+    std::memcpy(&flag, static_cast<const unsigned char*>(block) - kStateHeader + kFastMovesOffset, sizeof flag);
+    return flag;
 }
 
 /// b2BroadPhase's constructor, after it has set m_tree and the counts: the state and m_state's block. Stock's move

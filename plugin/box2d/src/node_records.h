@@ -66,33 +66,22 @@ public:
         }
     }
 
-    /// Move's common case, inline in b2BroadPhase::MoveProxy: a proxy with a record and a sane box, whose move
-    /// keeps its fat box (the test alone, as stock's MoveProxy) or gets a new one that the core's fast path queues
-    /// (the test, the record written, an id appended). Returns false, having changed nothing, for anything else:
-    /// Move then does it all.
-    bool TryMove(QuadtreeBroadPhase& core, ProxyId id, const Box& tight, Vec2 displacement)
+    /// Whether the records are kept (not stock-tree mode).
+    bool Kept() const { return m_kept; }
+
+    /// Move's common case that changes something, inline in b2BroadPhase::MoveProxy after KeptAndSaneSimd failed
+    /// on `node`, the record of `id` (m_tree.nodes[id], height 0), with `fat` its moved fat box: a sane box whose
+    /// fat box changed, which the core's fast path queues (the record written, the id appended). Returns false,
+    /// having changed nothing, for anything else (a bad box, a move the core cannot queue on its fast path): Move
+    /// then does it all.
+    static bool TryMoveChanged(QuadtreeBroadPhase& core, b2TreeNode& node, ProxyId id, const Box& tight,
+                               const Box& fat)
     {
-        if (!HasRecord(id))
+        if (!(IsSaneSimd(tight) && core.TryQueueFatMove(id, fat)))
         {
             return false;
         }
-        b2AABB& record = m_nodes[id].aabb;
-        Box fat;
-        std::memcpy(&fat, static_cast<const void*>(&record), sizeof fat);
-        const bool changed = RefattenSimd(Box2DFatPolicy(), fat, tight, displacement);
-        if (!QUADPHASE_LIKELY(IsSaneSimd(tight)))
-        {
-            return false; // reported by Move
-        }
-        if (!changed)
-        {
-            return true;
-        }
-        if (!core.TryQueueFatMove(id, fat))
-        {
-            return false;
-        }
-        std::memcpy(static_cast<void*>(&record), &fat, sizeof fat);
+        std::memcpy(static_cast<void*>(&node.aabb), &fat, sizeof fat);
         return true;
     }
 

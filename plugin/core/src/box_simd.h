@@ -59,50 +59,91 @@ inline bool OverlapsPrepared(const Box& e, const PreparedBox& query)
     return _mm_movemask_ps(_mm_cmple_ps(lhs, query.v)) == 0xF;
 }
 
-/// IsSane (box.h): every coordinate finite (x - x is 0 exactly for finite x, NaN for infinities and NaN) and
-/// min <= max on both axes. QueueMove tests every moving body's box with it.
-inline bool IsSaneSimd(const Box& b)
+namespace simd_detail
 {
-    const __m128 v = simd_detail::Load(b);
+// IsSane's four lanes: all set when every coordinate is finite (x - x is 0 exactly for finite x, NaN for infinities
+// and NaN) and min <= max on both axes.
+inline __m128 SaneMask(__m128 v)
+{
     const __m128 finite = _mm_cmpeq_ps(_mm_sub_ps(v, v), _mm_setzero_ps());
     const __m128 ordered = _mm_cmple_ps(_mm_shuffle_ps(v, v, _MM_SHUFFLE(1, 0, 1, 0)),
                                         _mm_shuffle_ps(v, v, _MM_SHUFFLE(3, 2, 3, 2)));
-    return _mm_movemask_ps(_mm_and_ps(finite, ordered)) == 0xF;
+    return _mm_and_ps(finite, ordered);
 }
 
-/// RefattenNoBranch (fat_policy.h), lane by lane: the same additions in the same order on the same floats, and
-/// the same compares, so the stored box comes out bit-identical.
-inline bool RefattenSimd(const FatPolicy& policy, Box& stored, const Box& tight, Vec2 displacement)
+// MovedFatBox (fat_policy.h) on the four lanes of the tight box t: the same additions in the same order on the
+// same floats, and the same compares, so the box comes out bit-identical.
+inline __m128 MovedFat(const FatPolicy& policy, __m128 t, Vec2 displacement)
 {
     const float r = policy.extension;
-    const float h = 4.0f * policy.extension;
-    const float dx = policy.multiplier * displacement.x;
-    const float dy = policy.multiplier * displacement.y;
-    const __m128 t = simd_detail::Load(tight);
-    const __m128 s = simd_detail::Load(stored);
-    // MovedFatBox: tight - r on the min sides, + r on the max sides (subtracted, not added negated: with a NaN
-    // extension the two give NaNs of opposite sign), then + d on the side the body moves toward.
-    const __m128 rv = _mm_set1_ps(r);
-    const __m128 grown = _mm_shuffle_ps(_mm_sub_ps(t, rv), _mm_add_ps(t, rv), _MM_SHUFFLE(3, 2, 1, 0));
-    const __m128 d = _mm_set_ps(dy, dx, dy, dx);
-    // lanes 0, 1 (min sides) take +d when d < 0; lanes 2, 3 (max sides) when !(d < 0): Box2D's if/else.
+    // tight - r on the min sides, + r on the max sides. For a non-NaN r that is one addition of (-r, -r, r, r)
+    // (x - r is x + -r in IEEE arithmetic); a NaN r takes the subtraction, which gives a NaN of the other sign
+    // than adding -r does. With Box2D's constant extension the compiler keeps one branch.
+    const __m128 grown = r == r ? _mm_add_ps(t, _mm_set_ps(r, r, -r, -r))
+                                : _mm_shuffle_ps(_mm_sub_ps(t, _mm_set1_ps(r)), _mm_add_ps(t, _mm_set1_ps(r)),
+                                                 _MM_SHUFFLE(3, 2, 1, 0));
+    // (dx, dy, dx, dy): the displacement's two floats loaded at once and multiplied lane by lane (the same
+    // products as the scalar multiplier * displacement.x and .y).
+    const __m128 disp = _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&displacement)));
+    const __m128 product = _mm_mul_ps(disp, _mm_set1_ps(policy.multiplier));
+    const __m128 d = _mm_movelh_ps(product, product);
+    // Lanes 0, 1 (min sides) take +d when d < 0; lanes 2, 3 (max sides) when !(d < 0): Box2D's if/else.
     const __m128 negative = _mm_cmplt_ps(d, _mm_setzero_ps());
     const __m128 moveMask = _mm_xor_ps(negative, _mm_castsi128_ps(_mm_set_epi32(-1, -1, 0, 0)));
     const __m128 moved = _mm_add_ps(grown, d);
-    const __m128 fat = _mm_or_ps(_mm_and_ps(moveMask, moved), _mm_andnot_ps(moveMask, grown));
-    // KeepsFatBox: stored contains tight, and fat grown by h on every side contains stored.
-    const __m128 hv = _mm_set1_ps(h);
-    const __m128 huge = _mm_shuffle_ps(_mm_sub_ps(fat, hv), _mm_add_ps(fat, hv), _MM_SHUFFLE(3, 2, 1, 0));
+    return _mm_or_ps(_mm_and_ps(moveMask, moved), _mm_andnot_ps(moveMask, grown));
+}
+
+// KeepsFatBox's eight compares as four lanes, all set when the stored box s is kept: s contains the tight box t,
+// and the moved fat box grown by 4 x extension on every side contains s.
+inline __m128 KeepMask(const FatPolicy& policy, __m128 s, __m128 t, __m128 fat)
+{
+    const float h = 4.0f * policy.extension;
+    const __m128 huge = h == h ? _mm_add_ps(fat, _mm_set_ps(h, h, -h, -h))
+                               : _mm_shuffle_ps(_mm_sub_ps(fat, _mm_set1_ps(h)), _mm_add_ps(fat, _mm_set1_ps(h)),
+                                                _MM_SHUFFLE(3, 2, 1, 0));
     // (s.minX, s.minY, t.maxX, t.maxY) <= (t.minX, t.minY, s.maxX, s.maxY)
     const __m128 c1 = _mm_cmple_ps(_mm_shuffle_ps(s, t, _MM_SHUFFLE(3, 2, 1, 0)),
                                    _mm_shuffle_ps(t, s, _MM_SHUFFLE(3, 2, 1, 0)));
     // (huge.minX, huge.minY, s.maxX, s.maxY) <= (s.minX, s.minY, huge.maxX, huge.maxY)
     const __m128 c2 = _mm_cmple_ps(_mm_shuffle_ps(huge, s, _MM_SHUFFLE(3, 2, 1, 0)),
                                    _mm_shuffle_ps(s, huge, _MM_SHUFFLE(3, 2, 1, 0)));
-    const bool keep = _mm_movemask_ps(_mm_and_ps(c1, c2)) == 0xF;
+    return _mm_and_ps(c1, c2);
+}
+} // namespace simd_detail
+
+/// IsSane (box.h): every coordinate finite and min <= max on both axes. QueueMove tests every moving body's box
+/// with it.
+inline bool IsSaneSimd(const Box& b)
+{
+    return _mm_movemask_ps(simd_detail::SaneMask(simd_detail::Load(b))) == 0xF;
+}
+
+/// RefattenNoBranch (fat_policy.h), lane by lane: the same additions in the same order on the same floats, and
+/// the same compares, so the stored box comes out bit-identical.
+inline bool RefattenSimd(const FatPolicy& policy, Box& stored, const Box& tight, Vec2 displacement)
+{
+    const __m128 t = simd_detail::Load(tight);
+    const __m128 s = simd_detail::Load(stored);
+    const __m128 fat = simd_detail::MovedFat(policy, t, displacement);
+    const bool keep = _mm_movemask_ps(simd_detail::KeepMask(policy, s, t, fat)) == 0xF;
     const __m128 keepMask = _mm_castsi128_ps(_mm_set1_epi32(-int32_t(keep)));
     _mm_storeu_ps(&stored.minX, _mm_or_ps(_mm_and_ps(keepMask, s), _mm_andnot_ps(keepMask, fat)));
     return !keep;
+}
+
+/// The common outcome of a move in one test: true when `tight` is sane (IsSane) and `stored` is kept (KeepsFatBox
+/// with MovedFatBox), so nothing changes. Otherwise false, with `fat` the moved fat box (MovedFatBox): the box
+/// RefattenSimd would store when the test fails on a sane box. One mask and one branch for both questions.
+inline bool KeptAndSaneSimd(const FatPolicy& policy, const Box& stored, const Box& tight, Vec2 displacement,
+                            Box& fat)
+{
+    const __m128 t = simd_detail::Load(tight);
+    const __m128 moved = simd_detail::MovedFat(policy, t, displacement);
+    const __m128 both = _mm_and_ps(simd_detail::KeepMask(policy, simd_detail::Load(stored), t, moved),
+                                   simd_detail::SaneMask(t));
+    _mm_storeu_ps(&fat.minX, moved);
+    return _mm_movemask_ps(both) == 0xF;
 }
 
 #else
@@ -130,6 +171,13 @@ inline bool RefattenSimd(const FatPolicy& policy, Box& stored, const Box& tight,
 inline bool IsSaneSimd(const Box& b)
 {
     return IsSane(b);
+}
+
+inline bool KeptAndSaneSimd(const FatPolicy& policy, const Box& stored, const Box& tight, Vec2 displacement,
+                            Box& fat)
+{
+    fat = MovedFatBox(policy, tight, displacement);
+    return int(IsSane(tight)) & int(KeepsFatBox(policy, stored, tight, fat));
 }
 
 #endif
