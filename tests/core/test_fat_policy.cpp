@@ -374,8 +374,10 @@ TEST_CASE("SIMD fat-box, overlap and sanity tests equal the scalar ones bit for 
         (ra ? changed : kept) += 1;
         // MoveProxy's one-mask test: kept and sane together, and the moved fat box otherwise.
         Box moved{};
-        const bool keptAndSane = KeptAndSaneSimd(policy, stored, tight, d, moved);
-        REQUIRE(keptAndSane == (!ra && IsSane(tight)));
+        bool sane = false;
+        const bool keptAndSane = KeptAndSaneSimd(policy, stored, &tight.minX, &tight.maxX, d, moved, sane);
+        REQUIRE(sane == IsSane(tight));
+        REQUIRE(keptAndSane == (!ra && sane));
         REQUIRE(SameBox(moved, MovedFatBox(policy, tight, d)));
 
         const Box q{pick(anything), pick(anything), pick(anything), pick(anything)};

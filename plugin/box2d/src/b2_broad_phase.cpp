@@ -102,7 +102,6 @@ void b2BroadPhase::MoveProxy(int32 proxyId, const b2AABB& aabb, const b2Vec2& di
 {
     using quadphase::detail::FastMovesAt;
     using quadphase::detail::NodeRecords;
-    const quadphase::Box tight = ToBox(aabb);
     const quadphase::Vec2 d{displacement.x, displacement.y};
     // & rather than &&: both loads are independent, and one branch predicts better than two.
     if (QUADPHASE_LIKELY(FastMovesAt(m_state) & int32(uint32_t(proxyId) < uint32_t(m_tree.nodeCapacity))))
@@ -113,9 +112,11 @@ void b2BroadPhase::MoveProxy(int32 proxyId, const b2AABB& aabb, const b2Vec2& di
             quadphase::Box stored;
             std::memcpy(&stored, static_cast<const void*>(&node.aabb), sizeof stored);
             quadphase::Box fat;
-            if (QUADPHASE_LIKELY(quadphase::KeptAndSaneSimd(quadphase::detail::Box2DFatPolicy(), stored, tight, d,
-                                                             fat)) ||
-                NodeRecords::TryMoveChanged(StateAt(m_state).core, node, proxyId, tight, fat))
+            bool sane;
+            // aabb is read corner by corner, as Box2D has just written it (KeptAndSaneSimd), and nowhere else here.
+            if (QUADPHASE_LIKELY(quadphase::KeptAndSaneSimd(quadphase::detail::Box2DFatPolicy(), stored,
+                                                             &aabb.lowerBound.x, &aabb.upperBound.x, d, fat, sane)) ||
+                (sane && NodeRecords::TryMoveChanged(StateAt(m_state).core, node, proxyId, fat)))
             {
                 return;
             }

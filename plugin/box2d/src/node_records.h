@@ -69,15 +69,13 @@ public:
     /// Whether the records are kept (not stock-tree mode).
     bool Kept() const { return m_kept; }
 
-    /// Move's common case that changes something, inline in b2BroadPhase::MoveProxy after KeptAndSaneSimd failed
-    /// on `node`, the record of `id` (m_tree.nodes[id], height 0), with `fat` its moved fat box: a sane box whose
-    /// fat box changed, which the core's fast path queues (the record written, the id appended). Returns false,
-    /// having changed nothing, for anything else (a bad box, a move the core cannot queue on its fast path): Move
-    /// then does it all.
-    static bool TryMoveChanged(QuadtreeBroadPhase& core, b2TreeNode& node, ProxyId id, const Box& tight,
-                               const Box& fat)
+    /// Move's common case that changes something, inline in b2BroadPhase::MoveProxy after KeptAndSaneSimd found a
+    /// sane box whose fat box changed: `node` is the record of `id` (m_tree.nodes[id], height 0), `fat` the moved fat
+    /// box. The core's fast path queues it (the id appended), and the record is written. Returns false, having
+    /// changed nothing, for a move the core cannot queue on its fast path: Move then does it all.
+    static bool TryMoveChanged(QuadtreeBroadPhase& core, b2TreeNode& node, ProxyId id, const Box& fat)
     {
-        if (!(IsSaneSimd(tight) && core.TryQueueFatMove(id, fat)))
+        if (!core.TryQueueFatMove(id, fat))
         {
             return false;
         }

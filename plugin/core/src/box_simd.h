@@ -41,6 +41,16 @@ inline __m128 Load(const Box& b)
 {
     return _mm_loadu_ps(&b.minX); // the four floats of Box, in order (may_alias load)
 }
+
+// A box's four floats, (lower.x, lower.y, upper.x, upper.y), as two 8-byte loads, one per corner: for a box the
+// caller has just written corner by corner, as Box2D writes a b2AABB (b2Fixture::Synchronize's Combine stores
+// lowerBound, then upperBound, 8 bytes each). One 16-byte load of two fresh 8-byte stores cannot be forwarded from
+// the store buffer and waits until they reach the cache: 8 ns more per MoveProxy (qp-moves-*).
+inline __m128 LoadCorners(const float* lower, const float* upper)
+{
+    return _mm_movelh_ps(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(lower))),
+                         _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(upper))));
+}
 } // namespace simd_detail
 
 inline PreparedBox Prepare(const Box& query)
@@ -132,17 +142,20 @@ inline bool RefattenSimd(const FatPolicy& policy, Box& stored, const Box& tight,
     return !keep;
 }
 
-/// The common outcome of a move in one test: true when `tight` is sane (IsSane) and `stored` is kept (KeepsFatBox
-/// with MovedFatBox), so nothing changes. Otherwise false, with `fat` the moved fat box (MovedFatBox): the box
-/// RefattenSimd would store when the test fails on a sane box. One mask and one branch for both questions.
-inline bool KeptAndSaneSimd(const FatPolicy& policy, const Box& stored, const Box& tight, Vec2 displacement,
-                            Box& fat)
+/// The common outcome of a move in one test: true when the tight box (lower.x, lower.y, upper.x, upper.y: two
+/// floats at each pointer) is sane (IsSane) and `stored` is kept (KeepsFatBox with MovedFatBox), so nothing changes.
+/// Otherwise false, with `fat` the moved fat box (MovedFatBox), the box RefattenSimd would store when the test fails
+/// on a sane box, and `sane` IsSane of the tight box. One mask and one branch for both questions; the corners are
+/// read as Box2D writes them.
+inline bool KeptAndSaneSimd(const FatPolicy& policy, const Box& stored, const float* lower, const float* upper,
+                            Vec2 displacement, Box& fat, bool& sane)
 {
-    const __m128 t = simd_detail::Load(tight);
+    const __m128 t = simd_detail::LoadCorners(lower, upper);
     const __m128 moved = simd_detail::MovedFat(policy, t, displacement);
-    const __m128 both = _mm_and_ps(simd_detail::KeepMask(policy, simd_detail::Load(stored), t, moved),
-                                   simd_detail::SaneMask(t));
+    const __m128 saneMask = simd_detail::SaneMask(t);
+    const __m128 both = _mm_and_ps(simd_detail::KeepMask(policy, simd_detail::Load(stored), t, moved), saneMask);
     _mm_storeu_ps(&fat.minX, moved);
+    sane = _mm_movemask_ps(saneMask) == 0xF;
     return _mm_movemask_ps(both) == 0xF;
 }
 
@@ -173,11 +186,13 @@ inline bool IsSaneSimd(const Box& b)
     return IsSane(b);
 }
 
-inline bool KeptAndSaneSimd(const FatPolicy& policy, const Box& stored, const Box& tight, Vec2 displacement,
-                            Box& fat)
+inline bool KeptAndSaneSimd(const FatPolicy& policy, const Box& stored, const float* lower, const float* upper,
+                            Vec2 displacement, Box& fat, bool& sane)
 {
+    const Box tight{lower[0], lower[1], upper[0], upper[1]};
     fat = MovedFatBox(policy, tight, displacement);
-    return int(IsSane(tight)) & int(KeepsFatBox(policy, stored, tight, fat));
+    sane = IsSane(tight);
+    return int(sane) & int(KeepsFatBox(policy, stored, tight, fat));
 }
 
 #endif
