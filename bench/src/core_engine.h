@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "loaded_trace.h"
+#include "box_simd.h"
 #include "pair_hash.h"
 #include "quadtree_broad_phase.h"
 #include "timed_run.h"
@@ -47,7 +48,25 @@ public:
         {
             if (!m_track)
             {
-                m_bp.QueueMove(id, tight, d); // queued, as b2BroadPhase::MoveProxy queues it
+                // As b2BroadPhase::MoveProxy does it: the fat-box test at the call, against the proxy's current fat
+                // box (the pool holds it: the queue holds only moves whose box is already there), and the id queued
+                // when the box changed (QueueFatMove); the cells' upkeep waits for FindPairs. A bad box goes to
+                // QueueMove, which reports it, as the adapter's slow path does.
+                Box fat;
+                bool sane;
+                if (quadphase::KeptAndSaneSimd(m_bp.GetPolicy(), m_bp.GetPool().Fat(id), &tight.minX, &tight.maxX, d,
+                                               fat, sane))
+                {
+                    return;
+                }
+                if (sane)
+                {
+                    m_bp.QueueFatMove(id, tight, fat);
+                }
+                else
+                {
+                    m_bp.QueueMove(id, tight, d);
+                }
                 return;
             }
         }

@@ -4,6 +4,8 @@
 // FindPairs).
 #include <algorithm>
 #include <cstdint>
+#include <random>
+#include <string>
 #include <stdexcept>
 #include <vector>
 
@@ -55,14 +57,17 @@ struct InlineTasks
         Reverse, // every item, one range per item, last item first
         SkipOdd, // only the even items: a broken job system
         Outside, // every item, plus one range past the end: a broken job system
+        Twice,   // every item twice: a broken job system
     };
     Mode mode = Mode::Reverse;
     int ranges = 0;
+    int enqueues = 0;
 
     static void* Enqueue(TaskCallback* task, int itemCount, int minRange, void* context, void* user)
     {
         auto* self = static_cast<InlineTasks*>(user);
         REQUIRE(minRange >= 1);
+        ++self->enqueues;
         for (int i = itemCount - 1; i >= 0; --i)
         {
             if (self->mode != Mode::SkipOdd || i % 2 == 0)
@@ -70,6 +75,10 @@ struct InlineTasks
                 task(i, i + 1, unsigned(i % 4), context);
                 ++self->ranges;
             }
+        }
+        if (self->mode == Mode::Twice)
+        {
+            task(0, itemCount, 0u, context);
         }
         if (self->mode == Mode::Outside)
         {
@@ -173,6 +182,131 @@ TEST_CASE("A task system that skips items or runs items out of range loses no pa
         {
             CHECK(errors.Count(ErrorCode::TaskSystemMisuse) > 0);
             CHECK(errors.Count(ErrorCode::TaskSystemMisuse) <= parallelCalls);
+        }
+    }
+}
+
+namespace
+{
+
+// Every one of 3,000 proxies, or a third of them, moved between two FindPairs calls, with QueueMove or the Box2D
+// adapter's way (the fat-box test at the call, QueueFatMove when the box changed): queues of 1,000 to 3,000 moves,
+// applied in blocks on the executor when FindPairs runs in parallel. Each call's pairs are checked against the
+// brute-force reference's set; returns the pair history, and Validate()'s answer at the end in `invalid`.
+std::vector<std::vector<Pair>> MassMoves(bool fatMoves, int threads, const TaskSystem& tasks, Executor executor,
+                                         std::string& invalid)
+{
+    Config config;
+    config.threads = threads;
+    config.taskSystem = tasks;
+    config.executor = executor;
+    config.parallelThreshold = 0;
+    const FatPolicy policy{};
+    QuadtreeBroadPhase qt(policy, config);
+    BruteForceBroadPhase brute(policy);
+    std::mt19937 rng(96000u);
+    std::uniform_real_distribution<float> pos(0.0f, 150.0f), size(0.1f, 1.5f), step(-0.7f, 0.7f);
+    constexpr int kProxies = 3000;
+    std::vector<Box> tight;
+    std::vector<ProxyId> ids;
+    for (int i = 0; i < kProxies; ++i)
+    {
+        const float x = pos(rng), y = pos(rng);
+        const float w = size(rng), h = size(rng);
+        tight.push_back(Box{x, y, x + w, y + h});
+        ids.push_back(qt.CreateProxy(tight.back(), nullptr));
+        REQUIRE(brute.CreateProxy(tight.back(), nullptr) == ids.back());
+    }
+    std::vector<std::vector<Pair>> history;
+    for (int round = 0; round < 12; ++round)
+    {
+        for (int i = round % 3 == 2 ? round % 3 : 0; i < kProxies; i += round % 3 == 2 ? 3 : 1)
+        {
+            const Vec2 d{step(rng), step(rng)};
+            Box& t = tight[size_t(i)];
+            t = Box{t.minX + d.x, t.minY + d.y, t.maxX + d.x, t.maxY + d.y};
+            if (fatMoves)
+            {
+                Box fat;
+                bool sane = false;
+                if (!KeptAndSaneSimd(policy, qt.GetPool().Fat(ids[size_t(i)]), &t.minX, &t.maxX, d, fat, sane))
+                {
+                    REQUIRE(sane);
+                    qt.QueueFatMove(ids[size_t(i)], t, fat);
+                }
+            }
+            else
+            {
+                qt.QueueMove(ids[size_t(i)], t, d);
+            }
+            brute.MoveProxy(ids[size_t(i)], t, d);
+        }
+        std::vector<Pair> pairs, reference;
+        qt.FindPairs(pairs);
+        brute.FindPairs(reference);
+        std::vector<Pair> sorted = pairs;
+        std::sort(sorted.begin(), sorted.end());
+        std::sort(reference.begin(), reference.end());
+        reference.erase(std::unique(reference.begin(), reference.end()), reference.end());
+        CAPTURE(round);
+        REQUIRE(sorted == reference);
+        history.push_back(pairs);
+    }
+    invalid = qt.Validate();
+    return history;
+}
+
+} // namespace
+
+TEST_CASE("Thousands of queued moves are applied in blocks on every executor, with the serial loop's pairs and order",
+          "[parallel][tasks][executors][concurrent]")
+{
+    for (bool fatMoves : {false, true})
+    {
+        CAPTURE(fatMoves);
+        std::string invalid;
+        const std::vector<std::vector<Pair>> serial = MassMoves(fatMoves, 1, TaskSystem{}, Executor::Pool, invalid);
+        REQUIRE(invalid.empty());
+        size_t pairs = 0;
+        for (const std::vector<Pair>& call : serial)
+        {
+            pairs += call.size();
+        }
+        REQUIRE(pairs > 1000);
+        std::vector<Executor> executors{Executor::Pool};
+        if (OpenMPAvailable())
+        {
+            executors.push_back(Executor::OpenMP);
+        }
+        for (Executor executor : executors)
+        {
+            for (int threads : {2, 4, 16})
+            {
+                CAPTURE(int(executor), threads);
+                REQUIRE(MassMoves(fatMoves, threads, TaskSystem{}, executor, invalid) == serial);
+                REQUIRE(invalid.empty());
+            }
+        }
+        {
+            qpjobs::JobSystem jobs(15, qpjobs::JobSystem::Caller::Helps);
+            REQUIRE(MassMoves(fatMoves, 15, jobs.Tasks(), Executor::Pool, invalid) == serial);
+            REQUIRE(invalid.empty());
+            CHECK(jobs.RangesOnPool() > 0);
+        }
+        // Two task-system calls per FindPairs (the apply's blocks, then the search's), and a broken job system
+        // loses nothing: each block runs once, the misuse is reported.
+        for (InlineTasks::Mode mode :
+             {InlineTasks::Mode::Reverse, InlineTasks::Mode::SkipOdd, InlineTasks::Mode::Outside,
+              InlineTasks::Mode::Twice})
+        {
+            CAPTURE(int(mode));
+            ErrorCounter errors;
+            InlineTasks tasks;
+            tasks.mode = mode;
+            REQUIRE(MassMoves(fatMoves, 4, tasks.Get(), Executor::Pool, invalid) == serial);
+            REQUIRE(invalid.empty());
+            CHECK(tasks.enqueues == 2 * int(serial.size()));
+            CHECK((errors.Count(ErrorCode::TaskSystemMisuse) > 0) == (mode != InlineTasks::Mode::Reverse));
         }
     }
 }

@@ -201,6 +201,8 @@ public:
     /// (QueueMove) are not in them until ApplyQueuedMoves, FindPairs or a reading call applies them.
     const Pyramid& GetPyramid() const { return m_pyramid; }
     const ProxyPool& GetPool() const { return m_pool; }
+    /// The policy this object was made with (a caller of QueueFatMove runs its fat-box test with it).
+    const FatPolicy& GetPolicy() const { return m_policy; }
 
     /// Checks every invariant of the pool and the pyramid, and that each stored box equals the pool's fat box.
     /// Empty string when all hold, otherwise the first violation. O(proxies + cells).
@@ -279,10 +281,24 @@ private:
     void QueueFatMoveSlow(const Box& tight, ProxyId id, const Box& fat);
     // Applies a queue of the other kind than `fat` says, then makes it that kind.
     void SwitchQueueKind(bool fat);
-    // Applies the queue, in queue order, on the calling thread: fat-box tests, in-cell rewrites, then the stale list
-    // and the move buffer. Requires exclusive access.
+    // Applies the queue, in queue order: fat-box tests, in-cell rewrites, then the stale list and the move buffer.
+    // Requires exclusive access. With `threads` > 1 (FindPairs' own parallel calls), the tests and rewrites run in
+    // fixed blocks of kApplyBlock moves on the executor, and the blocks' lists are joined in block order: the same
+    // lists as on one thread.
     // `now`, when given, is the caller's last clock reading (taken as this call's start) and receives its end.
-    void ApplyQueued(std::chrono::steady_clock::time_point* now = nullptr);
+    void ApplyQueued(std::chrono::steady_clock::time_point* now = nullptr, int threads = 1);
+    // What ApplyRange found in one range of the queue.
+    struct ApplyCounts
+    {
+        int32_t changed = 0;      // moves with a new fat box, listed from the range's start in the buffered list
+        int32_t stale = 0;        // of them, those that left their cell, listed from the range's start in the stale list
+        int32_t outsideDelta = 0; // the change of the pyramid's outside count
+    };
+    // Applies the queued moves [begin, end) (ApplyQueued's two loops): writes only those moves' proxies' flags,
+    // boxes, mirror slots and cell entries, so ranges of distinct moves may run at the same time.
+    ApplyCounts ApplyRange(int64_t begin, int64_t end);
+    void ApplyBlock(int64_t b); // ApplyRange of block b, its counts to m_applyCounts[b]
+    static constexpr int64_t kApplyBlock = 256; // queued moves per block of a parallel apply
     void WriteMirrorOfAll();
     void Retune();
     void Rebuild(float originX, float originY, float side, int depth);
@@ -312,10 +328,18 @@ private:
     bool UsesTaskSystem() const { return m_config.taskSystem.enqueueTask != nullptr; }
     void FindPairsParallel(std::vector<Pair>& out, int threads);
     class RayCaster; // one RayCast call (quadtree_queries.cpp)
-    struct BlockSearch;
     static constexpr int64_t kBlock = 64; // queries per block of a parallel search
     void SearchBlock(int64_t b);
-    void RunOnTaskSystem(BlockSearch& search, const TaskSystem& tasks);
+    // Runs (this->*work)(b) for every block b in [0, blocks) on `threads` threads of this call's executor (the
+    // library's pool, OpenMP or the game's task system), each block exactly once, whatever the executor does: a
+    // block it skipped runs on the calling thread, one it hands out twice runs once, and the misuse is reported.
+    // The first exception of a block is thrown again here, after every block has ended. `blocks` must not exceed
+    // what ReserveBlocks made room for.
+    void RunBlocks(int64_t blocks, int threads, void (QuadtreeBroadPhase::*work)(int64_t), const char* call);
+    // Room for RunBlocks of `blocks` blocks (may throw std::bad_alloc; call it before changing anything).
+    void ReserveBlocks(int64_t blocks);
+    struct BlockRun;
+    void RunOnTaskSystem(BlockRun& run, const TaskSystem& tasks);
 
     FatPolicy m_policy;
     Config m_config;
@@ -357,7 +381,10 @@ private:
     // proxies whose fat box changed since their cell entry was written (see MoveProxy)
     std::vector<ProxyId> m_stale;
     std::vector<std::vector<Pair>> m_blockPairs; // parallel FindPairs: the pairs of each block of m_work
-    std::vector<uint8_t> m_blockDone;            // parallel FindPairs: 1 once a block was searched
+    // RunBlocks: each block's state (0 free, 1 claimed by a thread, 2 ended), m_blockRoom of them
+    std::unique_ptr<std::atomic<uint8_t>[]> m_blockState;
+    int64_t m_blockRoom = 0;
+    std::vector<ApplyCounts> m_applyCounts; // parallel ApplyQueued: what each block found
     int32_t m_tunedCount = 0;                    // live proxies at the last automatic tuning
     int32_t m_tunedOutside = 0; // proxies outside the bounds right after the last automatic tuning
     ThreadChoice m_choice;      // Config::threads == 0: serial or parallel FindPairs calls

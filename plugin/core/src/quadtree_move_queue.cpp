@@ -167,7 +167,7 @@ void QuadtreeBroadPhase::ApplyForReadLocked() const
     }
 }
 
-void QuadtreeBroadPhase::ApplyQueued(Clock::time_point* now)
+void QuadtreeBroadPhase::ApplyQueued(Clock::time_point* now, int threads)
 {
     const int64_t count = int64_t(m_queuedCount);
     if (count == 0)
@@ -177,77 +177,58 @@ void QuadtreeBroadPhase::ApplyQueued(Clock::time_point* now)
     // A caller that already read the clock hands its reading over and gets this call's end back: on a step where
     // almost nothing moves, clock reads are a noticeable part of it.
     const Clock::time_point start = now != nullptr ? *now : Clock::now();
-    // One thread, the caller's: see docs/design.md ("Grid maintenance"). The moves were queued on this thread, so
-    // the queue, the pending flags and (through the last queries) most fat boxes are in its cache; a second core
-    // would have to fetch them, and the next QueueMove calls to fetch them back.
+    // On the caller's thread unless FindPairs runs in parallel: the moves were queued on this thread, so the
+    // queue, the pending flags and most fat boxes are in its cache (docs/design.md, "Grid maintenance"). In
+    // FindPairs' parallel calls the blocks of moves run on the executor, since on many cores a serial apply
+    // bounds the whole call.
+    const int64_t blocks = (count + kApplyBlock - 1) / kApplyBlock;
+    const bool parallel = threads > 1 && blocks >= 2 && count >= int64_t(m_config.parallelThreshold);
     // Everything this call allocates is reserved here, before any change: std::bad_alloc leaves the queue as it was.
     ReserveAtLeast(m_applyLists.stale, size_t(count));
     ReserveAtLeast(m_applyLists.buffered, size_t(count));
     ReserveAtLeast(m_stale, m_stale.size() + size_t(count));
     m_pool.ReserveBuffer(size_t(count));
+    if (parallel)
+    {
+        ReserveBlocks(blocks);
+        m_applyCounts.resize(size_t(blocks));
+    }
     ++m_mutations;
-    // Two passes over the queue:
-    // 1. the fat-box tests, without a branch on the outcome (RefattenSimd, and an append that always writes and
-    //    advances by the outcome): whether a body keeps its fat box is close to random, and the mispredictions
-    //    cost more than the test. A queue of QueueFatMove's holds the outcomes already: every box is new;
-    // 2. each new fat box is written into the proxy's cell entry when it stays in its cell (most do: a fat box is
-    //    smaller than a cell); the others are flagged and listed stale and wait for UpdateStaleEntries. Every
-    //    proxy with a new fat box is listed for the move buffer.
-    // Everything the loops read in locals: through members (or the pool) the compiler reloads the policy, the
-    // arrays and the constants built from them after every flag store, since a char store may alias anything.
-    const QueuedMove* const moves = m_queued.data();
-    Box* const boxes = m_pool.MutableFatData();
-    uint8_t* const state = m_pool.MutableStateData();
-    const FatPolicy policy = m_policy;
-    // QueueFatMove's caller has its boxes already: only the boxes computed here are copied to the mirror.
-    const BoxMirror mirror = m_queueHoldsFat ? BoxMirror{} : m_mirror;
     std::vector<ProxyId>& buffered = m_applyLists.buffered;
     std::vector<ProxyId>& stale = m_applyLists.stale;
-    buffered.resize(size_t(count)); // within the capacity reserved above: no allocation here
-    int32_t* const out = buffered.data();
+    // Within the capacities reserved above: no allocation. Each range lists its ids from its own start.
+    buffered.resize(size_t(count));
+    stale.resize(size_t(count));
     size_t n = 0;
-    if (m_queueHoldsFat)
+    size_t ns = 0;
+    int32_t outsideDelta = 0;
+    if (parallel)
     {
-        // The boxes are in the pool already (EnqueueFat).
-        const ProxyId* const ids = m_queuedIds.data();
-        for (int64_t i = 0; i < count; ++i)
+        RunBlocks(blocks, threads, &QuadtreeBroadPhase::ApplyBlock, "FindPairs");
+        // The blocks' lists, joined in block order: the lists of one range over the whole queue.
+        for (int64_t b = 0; b < blocks; ++b)
         {
-            state[size_t(ids[i])] &= ProxyPool::kClearPendingMask;
-            out[i] = ids[i];
+            const ApplyCounts& c = m_applyCounts[size_t(b)];
+            const size_t from = size_t(b * kApplyBlock);
+            std::copy_n(buffered.begin() + std::ptrdiff_t(from), size_t(c.changed), buffered.begin() + std::ptrdiff_t(n));
+            std::copy_n(stale.begin() + std::ptrdiff_t(from), size_t(c.stale), stale.begin() + std::ptrdiff_t(ns));
+            n += size_t(c.changed);
+            ns += size_t(c.stale);
+            outsideDelta += c.outsideDelta;
         }
-        n = size_t(count);
     }
     else
     {
-        for (int64_t i = 0; i < count; ++i)
-        {
-            const QueuedMove& move = moves[i];
-            state[size_t(move.id)] &= ProxyPool::kClearPendingMask;
-            out[n] = move.id;
-            n += RefattenSimd(policy, boxes[move.id], move.box, move.displacement) ? 1 : 0;
-        }
+        const ApplyCounts c = ApplyRange(0, count);
+        n = size_t(c.changed);
+        ns = size_t(c.stale);
+        outsideDelta = c.outsideDelta;
     }
-    stale.resize(n);
-    int32_t outsideDelta = 0;
-    size_t ns = 0;
-    for (size_t k = 0; k < n; ++k)
-    {
-        const ProxyId id = out[k];
-        if (mirror.Enabled())
-        {
-            mirror.Write(id, boxes[id]);
-        }
-        if (!m_pyramid.RewriteInPlace(id, boxes[id], outsideDelta) && m_pool.MarkStale(id))
-        {
-            stale[ns++] = id;
-        }
-    }
-    stale.resize(ns);
     m_pyramid.AddOutsideDelta(outsideDelta);
     // In queue order, so the stale list and the move buffer are the ones MoveProxy calls would have built (less
     // the proxies already re-placed in their cell).
-    m_stale.insert(m_stale.end(), stale.begin(), stale.end());
-    m_pool.Buffer(out, n);
+    m_stale.insert(m_stale.end(), stale.begin(), stale.begin() + std::ptrdiff_t(ns));
+    m_pool.Buffer(buffered.data(), n);
     stale.clear();
     buffered.clear();
     m_queuedCount = 0;
@@ -271,6 +252,69 @@ void QuadtreeBroadPhase::ApplyQueued(Clock::time_point* now)
     {
         *now = end;
     }
+}
+
+void QuadtreeBroadPhase::ApplyBlock(int64_t b)
+{
+    m_applyCounts[size_t(b)] = ApplyRange(b * kApplyBlock, std::min(int64_t(m_queuedCount), (b + 1) * kApplyBlock));
+}
+
+QuadtreeBroadPhase::ApplyCounts QuadtreeBroadPhase::ApplyRange(int64_t begin, int64_t end)
+{
+    // Two passes over the range:
+    // 1. the fat-box tests, without a branch on the outcome (RefattenSimd, and an append that always writes and
+    //    advances by the outcome): whether a body keeps its fat box is close to random, and the mispredictions
+    //    cost more than the test. A queue of QueueFatMove's holds the outcomes already: every box is new;
+    // 2. each new fat box is written into the proxy's cell entry when it stays in its cell (most do: a fat box is
+    //    smaller than a cell); the others are flagged and listed stale and wait for UpdateStaleEntries.
+    // Everything the loops read in locals: through members (or the pool) the compiler reloads the policy, the
+    // arrays and the constants built from them after every flag store, since a char store may alias anything.
+    const QueuedMove* const moves = m_queued.data();
+    Box* const boxes = m_pool.MutableFatData();
+    uint8_t* const state = m_pool.MutableStateData();
+    const FatPolicy policy = m_policy;
+    // QueueFatMove's caller has its boxes already: only the boxes computed here are copied to the mirror.
+    const BoxMirror mirror = m_queueHoldsFat ? BoxMirror{} : m_mirror;
+    int32_t* const out = m_applyLists.buffered.data() + begin;
+    ProxyId* const stale = m_applyLists.stale.data() + begin;
+    size_t n = 0;
+    if (m_queueHoldsFat)
+    {
+        // The boxes are in the pool already (EnqueueFat).
+        const ProxyId* const ids = m_queuedIds.data();
+        for (int64_t i = begin; i < end; ++i)
+        {
+            state[size_t(ids[i])] &= ProxyPool::kClearPendingMask;
+            out[n++] = ids[i];
+        }
+    }
+    else
+    {
+        for (int64_t i = begin; i < end; ++i)
+        {
+            const QueuedMove& move = moves[i];
+            state[size_t(move.id)] &= ProxyPool::kClearPendingMask;
+            out[n] = move.id;
+            n += RefattenSimd(policy, boxes[move.id], move.box, move.displacement) ? 1 : 0;
+        }
+    }
+    ApplyCounts counts;
+    size_t ns = 0;
+    for (size_t k = 0; k < n; ++k)
+    {
+        const ProxyId id = out[k];
+        if (mirror.Enabled())
+        {
+            mirror.Write(id, boxes[id]);
+        }
+        if (!m_pyramid.RewriteInPlace(id, boxes[id], counts.outsideDelta) && m_pool.MarkStale(id))
+        {
+            stale[ns++] = id;
+        }
+    }
+    counts.changed = int32_t(n);
+    counts.stale = int32_t(ns);
+    return counts;
 }
 
 void QuadtreeBroadPhase::TouchProxy(ProxyId id)

@@ -8,6 +8,7 @@
 #include <atomic>
 #include <exception>
 #include <mutex>
+#include <thread>
 
 #include "box_simd.h"
 #include "openmp_tasks.h"
@@ -59,7 +60,7 @@ void QuadtreeBroadPhase::FindPairs(std::vector<Pair>& out)
         }
     }
     Clock::time_point now = start;
-    ApplyQueued(&now);
+    ApplyQueued(&now, threads);
     // Entries first, then the re-tune test: the test reads the outside count, which is complete only once every
     // entry is up to date (ApplyQueued already updates the entries that stay in their cell). Queued and immediate
     // moves then re-tune at the same call. A re-tune rebuilds from the fat boxes, so the update work is wasted
@@ -167,57 +168,6 @@ int QuadtreeBroadPhase::Threads() const
 // vectors are then joined in block order. The output is therefore the serial loop's output, pair for pair and in the
 // same order, at any thread count, under any schedule and in any order the ranges run. During the search the pyramid
 // and the pool are only read.
-struct QuadtreeBroadPhase::BlockSearch
-{
-    BlockSearch(QuadtreeBroadPhase* owner, int64_t blockCount) : self(owner), blocks(blockCount) {}
-
-    QuadtreeBroadPhase* self;
-    int64_t blocks;
-    // A block's pair list may grow, and an exception must not leave a worker (OpenMP ends the program; a game's
-    // job system may not expect one): the first one is kept and thrown again on the caller's thread.
-    std::mutex errorMutex;
-    std::exception_ptr error;
-    std::atomic<bool> failed{false};
-    std::atomic<int64_t> outOfRange{0}; // items a task system handed over outside [0, blocks)
-
-    void Run(int64_t b)
-    {
-        if (b < 0 || b >= blocks)
-        {
-            outOfRange.fetch_add(1, std::memory_order_relaxed);
-            return;
-        }
-        if (failed.load(std::memory_order_relaxed))
-        {
-            return;
-        }
-        try
-        {
-            self->SearchBlock(b);
-        }
-        catch (...)
-        {
-            {
-                std::lock_guard<std::mutex> lock(errorMutex);
-                if (!error)
-                {
-                    error = std::current_exception();
-                }
-            }
-            failed.store(true, std::memory_order_relaxed);
-        }
-    }
-
-    static void Task(int startIndex, int endIndex, unsigned /*workerIndex*/, void* context)
-    {
-        auto* search = static_cast<BlockSearch*>(context);
-        for (int64_t b = startIndex; b < int64_t(endIndex); ++b)
-        {
-            search->Run(b);
-        }
-    }
-};
-
 void QuadtreeBroadPhase::SearchBlock(int64_t b)
 {
     const int64_t count = int64_t(m_work.size());
@@ -228,7 +178,6 @@ void QuadtreeBroadPhase::SearchBlock(int64_t b)
     {
         QueryPairsOf(m_work[size_t(i)], pairs);
     }
-    m_blockDone[size_t(b)] = 1;
 }
 
 void QuadtreeBroadPhase::FindPairsParallel(std::vector<Pair>& out, int threads)
@@ -239,27 +188,8 @@ void QuadtreeBroadPhase::FindPairsParallel(std::vector<Pair>& out, int threads)
     {
         m_blockPairs.resize(size_t(blocks));
     }
-    m_blockDone.assign(size_t(blocks), 0);
-    BlockSearch search(this, blocks);
-    // Each executor is a TaskSystem, so that the blocks are handed out, checked and joined in one way.
-    if (UsesTaskSystem())
-    {
-        RunOnTaskSystem(search, m_config.taskSystem);
-    }
-    else if (m_config.executor == Executor::Pool)
-    {
-        detail::WorkerPool::Tasks pool(m_workerPool.get(), threads);
-        RunOnTaskSystem(search, pool.Get());
-    }
-    else
-    {
-        detail::OpenMPTasks team(threads, m_config.schedule, m_config.chunk);
-        RunOnTaskSystem(search, team.Get());
-    }
-    if (search.error)
-    {
-        std::rethrow_exception(search.error);
-    }
+    ReserveBlocks(blocks);
+    RunBlocks(blocks, threads, &QuadtreeBroadPhase::SearchBlock, "FindPairs");
     size_t total = out.size();
     for (int64_t b = 0; b < blocks; ++b)
     {
@@ -273,37 +203,146 @@ void QuadtreeBroadPhase::FindPairsParallel(std::vector<Pair>& out, int threads)
     }
 }
 
-// A game's job system is not ours to trust blindly: a block it skipped or ran outside the range is reported and
-// searched on the caller's thread, so that no pair is lost whatever it does. (The library's own executors pass
-// the same check; it costs a pass over the blocks' flags.)
-void QuadtreeBroadPhase::RunOnTaskSystem(BlockSearch& search, const TaskSystem& tasks)
+void QuadtreeBroadPhase::ReserveBlocks(int64_t blocks)
 {
-    void* handle = tasks.enqueueTask(&BlockSearch::Task, int(search.blocks), 1, &search, tasks.userContext);
+    if (blocks > m_blockRoom)
+    {
+        const int64_t room = std::max(blocks, 2 * m_blockRoom);
+        m_blockState.reset(new std::atomic<uint8_t>[size_t(room)]);
+        m_blockRoom = room;
+    }
+}
+
+// One RunBlocks call. A game's job system is not ours to trust blindly: each block is claimed before it runs, so a
+// block handed out twice runs once, and an item outside the range is counted and ignored. An exception must not
+// leave a worker (OpenMP ends the program; a game's job system may not expect one): the first one is kept and
+// thrown again on the caller's thread.
+struct QuadtreeBroadPhase::BlockRun
+{
+    static constexpr uint8_t kFree = 0, kClaimed = 1, kEnded = 2;
+
+    QuadtreeBroadPhase* self;
+    int64_t blocks;
+    void (QuadtreeBroadPhase::*work)(int64_t);
+    std::atomic<uint8_t>* state;
+    std::mutex errorMutex;
+    std::exception_ptr error;
+    std::atomic<bool> failed{false};
+    std::atomic<int64_t> outOfRange{0}; // items handed over outside [0, blocks)
+    std::atomic<int64_t> repeated{0};   // items handed over again
+
+    BlockRun(QuadtreeBroadPhase* owner, int64_t count, void (QuadtreeBroadPhase::*fn)(int64_t))
+        : self(owner), blocks(count), work(fn), state(owner->m_blockState.get())
+    {
+        for (int64_t b = 0; b < blocks; ++b)
+        {
+            state[b].store(kFree, std::memory_order_relaxed);
+        }
+    }
+
+    void Run(int64_t b)
+    {
+        if (b < 0 || b >= blocks)
+        {
+            outOfRange.fetch_add(1, std::memory_order_relaxed);
+            return;
+        }
+        uint8_t expected = kFree;
+        if (!state[b].compare_exchange_strong(expected, kClaimed, std::memory_order_acquire))
+        {
+            repeated.fetch_add(1, std::memory_order_relaxed);
+            return;
+        }
+        if (!failed.load(std::memory_order_relaxed))
+        {
+            try
+            {
+                (self->*work)(b);
+            }
+            catch (...)
+            {
+                {
+                    std::lock_guard<std::mutex> lock(errorMutex);
+                    if (!error)
+                    {
+                        error = std::current_exception();
+                    }
+                }
+                failed.store(true, std::memory_order_relaxed);
+            }
+        }
+        state[b].store(kEnded, std::memory_order_release);
+    }
+
+    static void Task(int startIndex, int endIndex, unsigned /*workerIndex*/, void* context)
+    {
+        auto* run = static_cast<BlockRun*>(context);
+        for (int64_t b = startIndex; b < int64_t(endIndex); ++b)
+        {
+            run->Run(b);
+        }
+    }
+};
+
+void QuadtreeBroadPhase::RunBlocks(int64_t blocks, int threads, void (QuadtreeBroadPhase::*work)(int64_t),
+                                   const char* call)
+{
+    BlockRun run(this, blocks, work);
+    // Each executor is a TaskSystem, so that the blocks are handed out, checked and joined in one way.
+    if (UsesTaskSystem())
+    {
+        RunOnTaskSystem(run, m_config.taskSystem);
+    }
+    else if (m_config.executor == Executor::Pool)
+    {
+        detail::WorkerPool::Tasks pool(m_workerPool.get(), threads);
+        RunOnTaskSystem(run, pool.Get());
+    }
+    else
+    {
+        detail::OpenMPTasks team(threads, m_config.schedule, m_config.chunk);
+        RunOnTaskSystem(run, team.Get());
+    }
+    // Every block once, whatever the executor did: the ones it skipped run here; one it claimed and has not ended
+    // (a finishTask that returned before the work) is waited for.
+    int64_t missed = 0;
+    for (int64_t b = 0; b < blocks; ++b)
+    {
+        uint8_t s = run.state[b].load(std::memory_order_acquire);
+        if (s == BlockRun::kFree)
+        {
+            ++missed;
+            run.Run(b);
+            continue;
+        }
+        while (s != BlockRun::kEnded)
+        {
+            std::this_thread::yield();
+            s = run.state[b].load(std::memory_order_acquire);
+        }
+    }
+    const int64_t outside = run.outOfRange.load(std::memory_order_relaxed);
+    const int64_t repeated = run.repeated.load(std::memory_order_relaxed);
+    if (missed > 0 || outside > 0 || repeated > 0)
+    {
+        ReportError(ErrorCode::TaskSystemMisuse,
+                    "%s: the task system ran %lld of %lld items outside [0, %lld), handed out %lld again (run once) "
+                    "and skipped %lld (run on the calling thread)",
+                    call, (long long)outside, (long long)blocks, (long long)blocks, (long long)repeated,
+                    (long long)missed);
+    }
+    if (run.error)
+    {
+        std::rethrow_exception(run.error);
+    }
+}
+
+void QuadtreeBroadPhase::RunOnTaskSystem(BlockRun& run, const TaskSystem& tasks)
+{
+    void* handle = tasks.enqueueTask(&BlockRun::Task, int(run.blocks), 1, &run, tasks.userContext);
     if (handle != nullptr)
     {
         tasks.finishTask(handle, tasks.userContext);
-    }
-    if (search.failed.load(std::memory_order_relaxed))
-    {
-        return;
-    }
-    int64_t missed = 0;
-    for (int64_t b = 0; b < search.blocks; ++b)
-    {
-        if (m_blockDone[size_t(b)] == 0)
-        {
-            ++missed;
-            search.Run(b);
-        }
-    }
-    const int64_t outside = search.outOfRange.load(std::memory_order_relaxed);
-    if (missed > 0 || outside > 0)
-    {
-        ReportError(
-            ErrorCode::TaskSystemMisuse,
-            "FindPairs: the task system ran %lld of %lld items outside [0, %lld) and skipped %lld (searched "
-            "on the calling thread)",
-            (long long)outside, (long long)search.blocks, (long long)search.blocks, (long long)missed);
     }
 }
 
