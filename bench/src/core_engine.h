@@ -10,8 +10,8 @@
 #include <type_traits>
 #include <vector>
 
-#include "loaded_trace.h"
 #include "box_simd.h"
+#include "loaded_trace.h"
 #include "pair_hash.h"
 #include "quadtree_broad_phase.h"
 #include "timed_run.h"
@@ -54,8 +54,8 @@ public:
                 // QueueMove, which reports it, as the adapter's slow path does.
                 Box fat;
                 bool sane;
-                if (quadphase::KeptAndSaneSimd(m_bp.GetPolicy(), m_bp.GetPool().Fat(id), &tight.minX, &tight.maxX, d,
-                                               fat, sane))
+                if (quadphase::KeptAndSaneSimd(m_bp.GetPolicy(), m_bp.GetPool().Fat(id), &tight.minX,
+                                               &tight.maxX, d, fat, sane))
                 {
                     return;
                 }

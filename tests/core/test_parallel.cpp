@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <cstdint>
 #include <random>
-#include <string>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <catch2/catch.hpp>
@@ -193,8 +193,8 @@ namespace
 // adapter's way (the fat-box test at the call, QueueFatMove when the box changed): queues of 1,000 to 3,000 moves,
 // applied in blocks on the executor when FindPairs runs in parallel. Each call's pairs are checked against the
 // brute-force reference's set; returns the pair history, and Validate()'s answer at the end in `invalid`.
-std::vector<std::vector<Pair>> MassMoves(bool fatMoves, int threads, const TaskSystem& tasks, Executor executor,
-                                         std::string& invalid)
+std::vector<std::vector<Pair>> MassMoves(bool fatMoves, int threads, const TaskSystem& tasks,
+                                         Executor executor, std::string& invalid)
 {
     Config config;
     config.threads = threads;
@@ -229,7 +229,8 @@ std::vector<std::vector<Pair>> MassMoves(bool fatMoves, int threads, const TaskS
             {
                 Box fat;
                 bool sane = false;
-                if (!KeptAndSaneSimd(policy, qt.GetPool().Fat(ids[size_t(i)]), &t.minX, &t.maxX, d, fat, sane))
+                if (!KeptAndSaneSimd(policy, qt.GetPool().Fat(ids[size_t(i)]), &t.minX, &t.maxX, d, fat,
+                                     sane))
                 {
                     REQUIRE(sane);
                     qt.QueueFatMove(ids[size_t(i)], t, fat);
@@ -258,14 +259,16 @@ std::vector<std::vector<Pair>> MassMoves(bool fatMoves, int threads, const TaskS
 
 } // namespace
 
-TEST_CASE("Thousands of queued moves are applied in blocks on every executor, with the serial loop's pairs and order",
+TEST_CASE("Thousands of queued moves are applied in blocks on every executor, with the serial loop's pairs "
+          "and order",
           "[parallel][tasks][executors][concurrent]")
 {
     for (bool fatMoves : {false, true})
     {
         CAPTURE(fatMoves);
         std::string invalid;
-        const std::vector<std::vector<Pair>> serial = MassMoves(fatMoves, 1, TaskSystem{}, Executor::Pool, invalid);
+        const std::vector<std::vector<Pair>> serial =
+            MassMoves(fatMoves, 1, TaskSystem{}, Executor::Pool, invalid);
         REQUIRE(invalid.empty());
         size_t pairs = 0;
         for (const std::vector<Pair>& call : serial)
@@ -295,9 +298,8 @@ TEST_CASE("Thousands of queued moves are applied in blocks on every executor, wi
         }
         // Two task-system calls per FindPairs (the apply's blocks, then the search's), and a broken job system
         // loses nothing: each block runs once, the misuse is reported.
-        for (InlineTasks::Mode mode :
-             {InlineTasks::Mode::Reverse, InlineTasks::Mode::SkipOdd, InlineTasks::Mode::Outside,
-              InlineTasks::Mode::Twice})
+        for (InlineTasks::Mode mode : {InlineTasks::Mode::Reverse, InlineTasks::Mode::SkipOdd,
+                                       InlineTasks::Mode::Outside, InlineTasks::Mode::Twice})
         {
             CAPTURE(int(mode));
             ErrorCounter errors;

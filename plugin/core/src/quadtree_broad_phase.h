@@ -290,14 +290,16 @@ private:
     // What ApplyRange found in one range of the queue.
     struct ApplyCounts
     {
-        int32_t changed = 0;      // moves with a new fat box, listed from the range's start in the buffered list
-        int32_t stale = 0;        // of them, those that left their cell, listed from the range's start in the stale list
+        // Moves with a new fat box, and those of them that left their cell: each listed from the range's start
+        // (in the buffered and the stale list).
+        int32_t changed = 0;
+        int32_t stale = 0;
         int32_t outsideDelta = 0; // the change of the pyramid's outside count
     };
     // Applies the queued moves [begin, end) (ApplyQueued's two loops): writes only those moves' proxies' flags,
     // boxes, mirror slots and cell entries, so ranges of distinct moves may run at the same time.
     ApplyCounts ApplyRange(int64_t begin, int64_t end);
-    void ApplyBlock(int64_t b); // ApplyRange of block b, its counts to m_applyCounts[b]
+    void ApplyBlock(int64_t b);                 // ApplyRange of block b, its counts to m_applyCounts[b]
     static constexpr int64_t kApplyBlock = 256; // queued moves per block of a parallel apply
     void WriteMirrorOfAll();
     void Retune();
@@ -327,7 +329,7 @@ private:
     void StartTeam();
     bool UsesTaskSystem() const { return m_config.taskSystem.enqueueTask != nullptr; }
     void FindPairsParallel(std::vector<Pair>& out, int threads);
-    class RayCaster; // one RayCast call (quadtree_queries.cpp)
+    class RayCaster;                      // one RayCast call (quadtree_queries.cpp)
     static constexpr int64_t kBlock = 64; // queries per block of a parallel search
     void SearchBlock(int64_t b);
     // Runs (this->*work)(b) for every block b in [0, blocks) on `threads` threads of this call's executor (the
@@ -385,7 +387,7 @@ private:
     std::unique_ptr<std::atomic<uint8_t>[]> m_blockState;
     int64_t m_blockRoom = 0;
     std::vector<ApplyCounts> m_applyCounts; // parallel ApplyQueued: what each block found
-    int32_t m_tunedCount = 0;                    // live proxies at the last automatic tuning
+    int32_t m_tunedCount = 0;               // live proxies at the last automatic tuning
     int32_t m_tunedOutside = 0; // proxies outside the bounds right after the last automatic tuning
     ThreadChoice m_choice;      // Config::threads == 0: serial or parallel FindPairs calls
     // Seconds spent applying queued moves since the last FindPairs that consulted m_choice: the part of a mode's

@@ -31,8 +31,8 @@ Stats QuadtreeBroadPhase::GetStats() const
         m_pool.MemoryBytes() + m_pyramid.MemoryBytes() +
         int64_t((m_work.capacity() + m_stale.capacity() + m_queuedIds.capacity()) * sizeof(ProxyId)) +
         int64_t(m_queued.capacity() * sizeof(QueuedMove)) +
-        int64_t(m_blockPairs.capacity() * sizeof(std::vector<Pair>)) + m_blockRoom * int64_t(sizeof(uint8_t)) +
-        int64_t(m_applyCounts.capacity() * sizeof(ApplyCounts)) +
+        int64_t(m_blockPairs.capacity() * sizeof(std::vector<Pair>)) +
+        m_blockRoom * int64_t(sizeof(uint8_t)) + int64_t(m_applyCounts.capacity() * sizeof(ApplyCounts)) +
         int64_t((m_applyLists.stale.capacity() + m_applyLists.buffered.capacity()) * sizeof(ProxyId));
     for (const std::vector<Pair>& pairs : m_blockPairs)
     {

@@ -210,8 +210,10 @@ void QuadtreeBroadPhase::ApplyQueued(Clock::time_point* now, int threads)
         {
             const ApplyCounts& c = m_applyCounts[size_t(b)];
             const size_t from = size_t(b * kApplyBlock);
-            std::copy_n(buffered.begin() + std::ptrdiff_t(from), size_t(c.changed), buffered.begin() + std::ptrdiff_t(n));
-            std::copy_n(stale.begin() + std::ptrdiff_t(from), size_t(c.stale), stale.begin() + std::ptrdiff_t(ns));
+            std::copy_n(buffered.begin() + std::ptrdiff_t(from), size_t(c.changed),
+                        buffered.begin() + std::ptrdiff_t(n));
+            std::copy_n(stale.begin() + std::ptrdiff_t(from), size_t(c.stale),
+                        stale.begin() + std::ptrdiff_t(ns));
             n += size_t(c.changed);
             ns += size_t(c.stale);
             outsideDelta += c.outsideDelta;
@@ -256,7 +258,8 @@ void QuadtreeBroadPhase::ApplyQueued(Clock::time_point* now, int threads)
 
 void QuadtreeBroadPhase::ApplyBlock(int64_t b)
 {
-    m_applyCounts[size_t(b)] = ApplyRange(b * kApplyBlock, std::min(int64_t(m_queuedCount), (b + 1) * kApplyBlock));
+    m_applyCounts[size_t(b)] =
+        ApplyRange(b * kApplyBlock, std::min(int64_t(m_queuedCount), (b + 1) * kApplyBlock));
 }
 
 QuadtreeBroadPhase::ApplyCounts QuadtreeBroadPhase::ApplyRange(int64_t begin, int64_t end)

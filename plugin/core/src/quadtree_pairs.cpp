@@ -325,11 +325,12 @@ void QuadtreeBroadPhase::RunBlocks(int64_t blocks, int threads, void (QuadtreeBr
     const int64_t repeated = run.repeated.load(std::memory_order_relaxed);
     if (missed > 0 || outside > 0 || repeated > 0)
     {
-        ReportError(ErrorCode::TaskSystemMisuse,
-                    "%s: the task system ran %lld of %lld items outside [0, %lld), handed out %lld again (run once) "
-                    "and skipped %lld (run on the calling thread)",
-                    call, (long long)outside, (long long)blocks, (long long)blocks, (long long)repeated,
-                    (long long)missed);
+        ReportError(
+            ErrorCode::TaskSystemMisuse,
+            "%s: the task system ran %lld of %lld items outside [0, %lld), handed out %lld again (run once) "
+            "and skipped %lld (run on the calling thread)",
+            call, (long long)outside, (long long)blocks, (long long)blocks, (long long)repeated,
+            (long long)missed);
     }
     if (run.error)
     {
