@@ -25,8 +25,7 @@ void* NewStateBlock(BroadPhaseState* state, int32 capacity)
     unsigned char* block =
         static_cast<unsigned char*>(b2Alloc(int32(kStateHeader) + (capacity + 1) * int32(sizeof(int32))));
     std::memcpy(block, &state, sizeof state);
-    const int32 fast = state->FastMoves() ? 1 : 0;
-    std::memcpy(block + kFastMovesOffset, &fast, sizeof fast);
+    SetFastMovesAt(block + kStateHeader, state->FastMoves());
     return block + kStateHeader;
 }
 
@@ -73,8 +72,7 @@ void BroadPhaseState::ListObservers()
     observers.Assign(std::move(list));
     if (*m_block != nullptr) // null while NewState builds the state
     {
-        const int32 fast = FastMoves() ? 1 : 0;
-        std::memcpy(static_cast<unsigned char*>(*m_block) - kStateHeader + kFastMovesOffset, &fast, sizeof fast);
+        SetFastMovesAt(*m_block, FastMoves());
     }
 }
 

@@ -84,6 +84,13 @@ inline int32 FastMovesAt(const void* block)
     return flag;
 }
 
+/// Writes the fast-moves flag of m_state's block (`block`, as b2BroadPhase holds it): 1 when `fast`, else 0.
+inline void SetFastMovesAt(void* block, bool fast)
+{
+    const int32 flag = fast ? 1 : 0;
+    std::memcpy(static_cast<unsigned char*>(block) - kStateHeader + kFastMovesOffset, &flag, sizeof flag);
+}
+
 /// b2BroadPhase's constructor, after it has set m_tree and the counts: the state and m_state's block. Stock's move
 /// and pair buffers (the members from m_state on) are set by the mode: stock's with a stock tree
 /// (QUADPHASE_STOCK_TREE=1 in the environment), empty otherwise. QUADPHASE_VALIDATE=1 validates.

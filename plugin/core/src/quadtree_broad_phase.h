@@ -297,8 +297,9 @@ private:
         int32_t outsideDelta = 0; // the change of the pyramid's outside count
     };
     // Applies the queued moves [begin, end) (ApplyQueued's two loops): writes only those moves' proxies' flags,
-    // boxes, mirror slots and cell entries, so ranges of distinct moves may run at the same time.
-    ApplyCounts ApplyRange(int64_t begin, int64_t end);
+    // boxes, mirror slots and cell entries, so ranges of distinct moves may run at the same time. Clears their
+    // pending flags when `clearPending` says so (else the caller has).
+    ApplyCounts ApplyRange(int64_t begin, int64_t end, bool clearPending);
     void ApplyBlock(int64_t b);                 // ApplyRange of block b, its counts to m_applyCounts[b]
     static constexpr int64_t kApplyBlock = 256; // queued moves per block of a parallel apply
     void WriteMirrorOfAll();

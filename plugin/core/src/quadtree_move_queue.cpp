@@ -204,6 +204,15 @@ void QuadtreeBroadPhase::ApplyQueued(Clock::time_point* now, int threads)
     int32_t outsideDelta = 0;
     if (parallel)
     {
+        // The pending flags are cleared here, on the caller's thread: the next step's MoveProxy calls, on this
+        // thread, read and set them, and would otherwise fetch each flag's cache line from the core that cleared
+        // it. The blocks then write flags only for the few proxies that leave their cell (MarkStale).
+        uint8_t* const state = m_pool.MutableStateData();
+        for (int64_t i = 0; i < count; ++i)
+        {
+            state[size_t(m_queueHoldsFat ? m_queuedIds[size_t(i)] : m_queued[size_t(i)].id)] &=
+                ProxyPool::kClearPendingMask;
+        }
         RunBlocks(blocks, threads, &QuadtreeBroadPhase::ApplyBlock, "FindPairs");
         // The blocks' lists, joined in block order: the lists of one range over the whole queue.
         for (int64_t b = 0; b < blocks; ++b)
@@ -221,7 +230,7 @@ void QuadtreeBroadPhase::ApplyQueued(Clock::time_point* now, int threads)
     }
     else
     {
-        const ApplyCounts c = ApplyRange(0, count);
+        const ApplyCounts c = ApplyRange(0, count, true);
         n = size_t(c.changed);
         ns = size_t(c.stale);
         outsideDelta = c.outsideDelta;
@@ -259,10 +268,10 @@ void QuadtreeBroadPhase::ApplyQueued(Clock::time_point* now, int threads)
 void QuadtreeBroadPhase::ApplyBlock(int64_t b)
 {
     m_applyCounts[size_t(b)] =
-        ApplyRange(b * kApplyBlock, std::min(int64_t(m_queuedCount), (b + 1) * kApplyBlock));
+        ApplyRange(b * kApplyBlock, std::min(int64_t(m_queuedCount), (b + 1) * kApplyBlock), false);
 }
 
-QuadtreeBroadPhase::ApplyCounts QuadtreeBroadPhase::ApplyRange(int64_t begin, int64_t end)
+QuadtreeBroadPhase::ApplyCounts QuadtreeBroadPhase::ApplyRange(int64_t begin, int64_t end, bool clearPending)
 {
     // Two passes over the range:
     // 1. the fat-box tests, without a branch on the outcome (RefattenSimd, and an append that always writes and
@@ -287,7 +296,10 @@ QuadtreeBroadPhase::ApplyCounts QuadtreeBroadPhase::ApplyRange(int64_t begin, in
         const ProxyId* const ids = m_queuedIds.data();
         for (int64_t i = begin; i < end; ++i)
         {
-            state[size_t(ids[i])] &= ProxyPool::kClearPendingMask;
+            if (clearPending)
+            {
+                state[size_t(ids[i])] &= ProxyPool::kClearPendingMask;
+            }
             out[n++] = ids[i];
         }
     }
@@ -296,7 +308,10 @@ QuadtreeBroadPhase::ApplyCounts QuadtreeBroadPhase::ApplyRange(int64_t begin, in
         for (int64_t i = begin; i < end; ++i)
         {
             const QueuedMove& move = moves[i];
-            state[size_t(move.id)] &= ProxyPool::kClearPendingMask;
+            if (clearPending)
+            {
+                state[size_t(move.id)] &= ProxyPool::kClearPendingMask;
+            }
             out[n] = move.id;
             n += RefattenSimd(policy, boxes[move.id], move.box, move.displacement) ? 1 : 0;
         }
