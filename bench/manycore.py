@@ -252,6 +252,7 @@ def csv_rows(cases, circles, frame_rows):
         out.append(dict(section="replay", case=c["name"], engine="stock", ms_per_step=c["stock"]))
         out += [dict(section="replay", case=c["name"], engine="quadtree", threads=t, rounds=len(c["threads"][t]),
                      ms_per_step=m["whole"], find_ms_per_step=m["find"], outside_ms_per_step=m["outside"],
+                     upkeep_ms_per_step=m["upkeep"], search_ms_per_step=m["search"],
                      speedup=sw[t], find_speedup=sf[t],
                      pairs_identical={True: "yes", False: "no"}.get(c["checks"].get(t), "not checked"))
                 for t, m in c["ms"].items()]
