@@ -372,13 +372,16 @@ TEST_CASE("SIMD fat-box, overlap and sanity tests equal the scalar ones bit for 
         // Box2D, so NaN bits are not reproducible across builds (an ASan build differed in a sign).
         REQUIRE(SameBox(a, b));
         (ra ? changed : kept) += 1;
-        // MoveProxy's one-mask test: kept and sane together, and the moved fat box otherwise.
+        // MoveProxy's one-mask test: kept and sane together, and otherwise the moved fat box and the sanity.
         Box moved{};
         bool sane = false;
         const bool keptAndSane = KeptAndSaneSimd(policy, stored, &tight.minX, &tight.maxX, d, moved, sane);
-        REQUIRE(sane == IsSane(tight));
-        REQUIRE(keptAndSane == (!ra && sane));
-        REQUIRE(SameBox(moved, MovedFatBox(policy, tight, d)));
+        REQUIRE(keptAndSane == (!ra && IsSane(tight)));
+        if (!keptAndSane)
+        {
+            REQUIRE(sane == IsSane(tight));
+            REQUIRE(SameBox(moved, MovedFatBox(policy, tight, d)));
+        }
 
         const Box q{pick(anything), pick(anything), pick(anything), pick(anything)};
         REQUIRE(IsSane(q) == IsSaneSimd(q));

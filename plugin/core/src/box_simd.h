@@ -145,18 +145,51 @@ inline bool RefattenSimd(const FatPolicy& policy, Box& stored, const Box& tight,
 /// The common outcome of a move in one test: true when the tight box (lower.x, lower.y, upper.x, upper.y: two
 /// floats at each pointer) is sane (IsSane) and `stored` is kept (KeepsFatBox with MovedFatBox), so nothing changes.
 /// Otherwise false, with `fat` the moved fat box (MovedFatBox), the box RefattenSimd would store when the test fails
-/// on a sane box, and `sane` IsSane of the tight box. One mask and one branch for both questions; the corners are
-/// read as Box2D writes them.
+/// on a sane box, and `sane` IsSane of the tight box; both are written only then. One mask and one branch for both
+/// questions; the corners are read as Box2D writes them.
+///
+/// The kept test runs on the boxes with their min lanes negated, (-minX, -minY, maxX, maxY): there every one of
+/// KeepsFatBox's eight compares reads "lane <= lane" (s.min <= t.min is -t.min <= -s.min), so the tight, stored and
+/// grown boxes are compared as they come, with no shuffles, and the fat box grows by +r on every lane. Negation is
+/// exact, and so is -(a - b) = -a + b in IEEE arithmetic, so each lane holds the negation of the float Box2D
+/// compares, and each compare gives Box2D's answer. The side that does not move adds max(0, -d) or max(0, d), a
+/// zero, instead of being selected: that can turn a -0 into +0, which compares equal, so the decision is unchanged;
+/// the box to store, whose bits matter, is MovedFat's, computed only when the test fails. A NaN displacement gives
+/// a NaN lane either way (maxps returns its second operand when one is NaN), and a NaN lane fails its compare as in
+/// Box2D's. Most moves keep their fat box: this is the whole of their cost in MoveProxy (docs/design.md, "Fat
+/// boxes").
 inline bool KeptAndSaneSimd(const FatPolicy& policy, const Box& stored, const float* lower, const float* upper,
                             Vec2 displacement, Box& fat, bool& sane)
 {
     const __m128 t = simd_detail::LoadCorners(lower, upper);
-    const __m128 moved = simd_detail::MovedFat(policy, t, displacement);
-    const __m128 saneMask = simd_detail::SaneMask(t);
-    const __m128 both = _mm_and_ps(simd_detail::KeepMask(policy, simd_detail::Load(stored), t, moved), saneMask);
-    _mm_storeu_ps(&fat.minX, moved);
+    const __m128 minSigns = _mm_castsi128_ps(_mm_set_epi32(0, 0, int32_t(0x80000000u), int32_t(0x80000000u)));
+    const __m128 zero = _mm_setzero_ps();
+    const __m128 u = _mm_xor_ps(t, minSigns);                               // tight, min lanes negated
+    const __m128 v = _mm_xor_ps(simd_detail::Load(stored), minSigns);       // stored, min lanes negated
+    const __m128 disp = _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&displacement)));
+    // The policy's three numbers as one vector (m, m, r, h), one 16-byte load: GCC loads a constant _mm_set1_ps as
+    // a scalar and broadcasts it, two instructions each. Its lanes 2 and 3 multiply the zeros above the
+    // displacement; the products there are never read.
+    const __m128 constants = _mm_set_ps(4.0f * policy.extension, policy.extension, policy.multiplier,
+                                        policy.multiplier);
+    const __m128 product = _mm_mul_ps(disp, constants); // (m dx, m dy, -, -)
+    const __m128 ahead = _mm_max_ps(zero, _mm_xor_ps(_mm_movelh_ps(product, product), minSigns));
+    const __m128 grown = _mm_add_ps(_mm_add_ps(u, _mm_shuffle_ps(constants, constants, _MM_SHUFFLE(2, 2, 2, 2))),
+                                    ahead);
+    const __m128 huge = _mm_add_ps(grown, _mm_shuffle_ps(constants, constants, _MM_SHUFFLE(3, 3, 3, 3)));
+    // u <= v: the stored box contains the tight one; v <= huge: the grown box's margin contains the stored one.
+    const __m128 keep = _mm_and_ps(_mm_cmple_ps(u, v), _mm_cmple_ps(v, huge));
+    // IsSane: t - t is 0 for finite lanes (NaN for infinities and NaN), and (minX, minY) <= (maxX, maxY).
+    const __m128 finite = _mm_cmpeq_ps(_mm_sub_ps(t, t), zero);
+    const __m128 ordered = _mm_cmple_ps(t, _mm_movehl_ps(t, t));
+    const __m128 saneMask = _mm_and_ps(finite, ordered);
+    if (QUADPHASE_LIKELY(_mm_movemask_ps(_mm_and_ps(keep, saneMask)) == 0xF))
+    {
+        return true;
+    }
+    _mm_storeu_ps(&fat.minX, simd_detail::MovedFat(policy, t, displacement));
     sane = _mm_movemask_ps(saneMask) == 0xF;
-    return _mm_movemask_ps(both) == 0xF;
+    return false;
 }
 
 #else
