@@ -155,8 +155,9 @@ inline bool RefattenSimd(const FatPolicy& policy, Box& stored, const Box& tight,
 /// compares, and each compare gives Box2D's answer. The side that does not move adds max(0, -d) or max(0, d), a
 /// zero, instead of being selected: that can turn a -0 into +0, which compares equal, so the decision is unchanged;
 /// the box to store, whose bits matter, is MovedFat's, computed only when the test fails. A NaN displacement gives
-/// a NaN lane either way (maxps returns its second operand when one is NaN), and a NaN lane fails its compare as in
-/// Box2D's. Most moves keep their fat box: this is the whole of their cost in MoveProxy (docs/design.md, "Fat
+/// a NaN lane either way (maxps returns its second operand when one is NaN: SSE's rule, which Emscripten's emulation
+/// of _mm_max_ps follows; a wasm pmax would not, and test_fat_policy.cpp's NaN displacements would say so), and a
+/// NaN lane fails its compare as in Box2D's. Most moves keep their fat box: this is the whole of their cost in MoveProxy (docs/design.md, "Fat
 /// boxes").
 inline bool KeptAndSaneSimd(const FatPolicy& policy, const Box& stored, const float* lower, const float* upper,
                             Vec2 displacement, Box& fat, bool& sane)
