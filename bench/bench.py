@@ -49,6 +49,9 @@ def parse_args():
         ap.add_argument("--summary", default=os.path.join(HERE, "RESULTS.md"),
                         help="markdown summary (bench/RESULTS.md)")
         ap.add_argument("--parts", default=",".join(PARTS), help="subset of " + ",".join(PARTS))
+        ap.add_argument("--replay-engines", default=None, metavar="LIST",
+                        help="replay only these engines, e.g. stock,quadtree-1t,quadtree-2t to recheck the headline "
+                        "in minutes rather than the hour the peers take (default: every engine built)")
         ap.add_argument("--ccd", default="scene", choices=("scene", "on", "off"),
                         help="continuous collision in step and phases (default: as the scene has it, Box2D's on)")
         ap.add_argument("--scale", type=float, default=1.0,
@@ -131,6 +134,14 @@ def main():
     if info["engines_missing"]:
         print(f"bench.py: not built here (Chipmunk2D / Bullet not found at configure time): "
               f"{', '.join(info['engines_missing'])}")
+    if args.replay_engines:
+        wanted = set(args.replay_engines.split(","))
+        unknown = wanted - set(replay.REPLAY_ENGINES)
+        if unknown:
+            sys.exit(f"bench.py: --replay-engines: unknown {', '.join(sorted(unknown))} "
+                     f"(known: {', '.join(replay.REPLAY_ENGINES)})")
+        info["engines_left_out"] = sorted(available - wanted)
+        available &= wanted
     traces = replay.record_traces(first, args) if "replay" in args.parts else []
     info["traces"] = [{k: v for k, v in t.items() if k != "path"} for t in traces]
 

@@ -36,6 +36,8 @@ def markdown(info, data, levels, plots, frame_goals=()):
              "unless a column says otherwise.")
     if info.get("engines_missing"):
         L.append(f"- not built (Chipmunk2D / Bullet missing at configure time): {', '.join(info['engines_missing'])}")
+    if info.get("engines_left_out"):
+        L.append(f"- not replayed in this run (--replay-engines): {', '.join(info['engines_left_out'])}")
     L += [""] + headline(d, by, rp, levels[0])
     if frame_goals:  # "## Goals" becomes this report's frames section, with the per-step tables in frames.md
         L += ["## Frames: worst step and total at the defaults", "",
