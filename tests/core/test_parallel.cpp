@@ -62,12 +62,17 @@ struct InlineTasks
     Mode mode = Mode::Reverse;
     int ranges = 0;
     int enqueues = 0;
+    // enqueueTask call number throwAt (counted from 1) throws std::runtime_error, running nothing
+    int throwAt = 0;
 
     static void* Enqueue(TaskCallback* task, int itemCount, int minRange, void* context, void* user)
     {
         auto* self = static_cast<InlineTasks*>(user);
         REQUIRE(minRange >= 1);
-        ++self->enqueues;
+        if (++self->enqueues == self->throwAt)
+        {
+            throw std::runtime_error("job system failure");
+        }
         for (int i = itemCount - 1; i >= 0; --i)
         {
             if (self->mode != Mode::SkipOdd || i % 2 == 0)
@@ -310,6 +315,71 @@ TEST_CASE("Thousands of queued moves are applied in blocks on every executor, wi
             CHECK(tasks.enqueues == 2 * int(serial.size()));
             CHECK((errors.Count(ErrorCode::TaskSystemMisuse) > 0) == (mode != InlineTasks::Mode::Reverse));
         }
+    }
+}
+
+// A job system whose enqueueTask throws while FindPairs applies a queue of thousands of moves in blocks (before any
+// block ran): the exception reaches the caller, the broadphase stays valid, and the next FindPairs reports the pairs
+// of every queued move, as the brute-force reference does.
+TEST_CASE("A task system that throws during the queued moves' apply loses no move",
+          "[parallel][tasks][errors]")
+{
+    for (bool fatMoves : {false, true})
+    {
+        CAPTURE(fatMoves);
+        InlineTasks tasks;
+        Config config;
+        config.threads = 4;
+        config.taskSystem = tasks.Get();
+        config.parallelThreshold = 0;
+        const FatPolicy policy{};
+        QuadtreeBroadPhase qt(policy, config);
+        BruteForceBroadPhase brute(policy);
+        std::mt19937 rng(97000u);
+        std::uniform_real_distribution<float> pos(0.0f, 150.0f), size(0.1f, 1.5f), step(-2.0f, 2.0f);
+        std::vector<Box> tight;
+        for (int i = 0; i < 3000; ++i)
+        {
+            const float x = pos(rng), y = pos(rng);
+            tight.push_back(Box{x, y, x + size(rng), y + size(rng)});
+            REQUIRE(qt.CreateProxy(tight.back(), nullptr) == brute.CreateProxy(tight.back(), nullptr));
+        }
+        std::vector<Pair> pairs, reference;
+        qt.FindPairs(pairs);
+        brute.FindPairs(reference);
+        for (int i = 0; i < 3000; ++i)
+        {
+            const Vec2 d{step(rng), step(rng)};
+            Box& t = tight[size_t(i)];
+            t = Box{t.minX + d.x, t.minY + d.y, t.maxX + d.x, t.maxY + d.y};
+            Box fat;
+            bool sane = false;
+            if (!fatMoves)
+            {
+                qt.QueueMove(ProxyId(i), t, d);
+            }
+            else if (!KeptAndSaneSimd(policy, qt.GetPool().Fat(ProxyId(i)), &t.minX, &t.maxX, d, fat, sane))
+            {
+                REQUIRE(sane);
+                qt.QueueFatMove(ProxyId(i), t, fat);
+            }
+            brute.MoveProxy(ProxyId(i), t, d);
+        }
+        tasks.throwAt = tasks.enqueues + 1; // the apply's blocks: the first task of the next FindPairs
+        pairs.clear();
+        REQUIRE_THROWS_AS(qt.FindPairs(pairs), std::runtime_error);
+        REQUIRE(tasks.ranges > 0); // the earlier calls ran on the task system
+        REQUIRE(pairs.empty());
+        REQUIRE(qt.Validate() == "");
+        qt.FindPairs(pairs);
+        reference.clear();
+        brute.FindPairs(reference);
+        std::sort(pairs.begin(), pairs.end());
+        std::sort(reference.begin(), reference.end());
+        reference.erase(std::unique(reference.begin(), reference.end()), reference.end());
+        REQUIRE(reference.size() > 1000);
+        REQUIRE(pairs == reference);
+        REQUIRE(qt.Validate() == "");
     }
 }
 

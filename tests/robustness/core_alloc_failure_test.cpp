@@ -127,9 +127,12 @@ std::vector<Pair> Sorted(std::vector<Pair> pairs)
 }
 
 // Fails allocation 1, 2, ... of FindPairs on 2 threads of `executor` until a call gets through, over 6 steps' moves.
-void CheckFindPairsAllocFailures(Executor executor)
+// The moves are QueueMove's, or with `fatMoves` QueueFatMove's (the Box2D adapter's: the caller's fat-box test, and
+// only the moves whose fat box changed), whose apply lists the queue itself and borrows the stale list's tail.
+void CheckFindPairsAllocFailures(Executor executor, bool fatMoves)
 {
     CAPTURE(executor == Executor::Pool ? "pool" : "openmp");
+    CAPTURE(fatMoves);
     g_failures.store(0);
     Config config;
     config.executor = executor;
@@ -171,8 +174,20 @@ void CheckFindPairsAllocFailures(Executor executor)
                 to = Box{old.minX + 0.1f + dx, old.minY + 0.1f + dy, old.maxX - 0.1f + dx,
                          old.maxY - 0.1f + dy};
             }
-            failing.QueueMove(id, to, Vec2{0.0f, 0.0f});
-            twin.QueueMove(id, to, Vec2{0.0f, 0.0f});
+            if (fatMoves)
+            {
+                const Box fat = MovedFatBox(failing.GetPolicy(), to, Vec2{0.0f, 0.0f});
+                if (!KeepsFatBox(failing.GetPolicy(), old, to, fat))
+                {
+                    failing.QueueFatMove(id, to, fat);
+                    twin.QueueFatMove(id, to, fat);
+                }
+            }
+            else
+            {
+                failing.QueueMove(id, to, Vec2{0.0f, 0.0f});
+                twin.QueueMove(id, to, Vec2{0.0f, 0.0f});
+            }
         }
         b.clear();
         twin.FindPairs(b);
@@ -216,10 +231,13 @@ TEST_CASE("std::bad_alloc at any allocation of FindPairs on 2 threads: thrown to
           "[alloc]")
 {
     // The pool runs in every build; OpenMP only where the build has it (Executor::OpenMP is serial without it).
-    CheckFindPairsAllocFailures(Executor::Pool);
-    if (OpenMPAvailable())
+    for (const bool fatMoves : {false, true})
     {
-        CheckFindPairsAllocFailures(Executor::OpenMP);
+        CheckFindPairsAllocFailures(Executor::Pool, fatMoves);
+        if (OpenMPAvailable())
+        {
+            CheckFindPairsAllocFailures(Executor::OpenMP, fatMoves);
+        }
     }
 }
 

@@ -291,7 +291,7 @@ private:
     struct ApplyCounts
     {
         // Moves with a new fat box, and those of them that left their cell: each listed from the range's start
-        // (in the buffered and the stale list).
+        // (in m_refattened, or m_queuedIds itself for a queue of QueueFatMove's, and in m_stale's tail).
         int32_t changed = 0;
         int32_t stale = 0;
         int32_t outsideDelta = 0; // the change of the pyramid's outside count
@@ -368,14 +368,11 @@ private:
         m_fastRoom = m_queueHoldsFat || m_timing ? 0 : m_queued.size();
         m_fastFatRoom = m_queueHoldsFat && !m_timing ? m_queuedIds.size() : 0;
     }
-    // ApplyQueued's scratch, in queue order: the ids it adds to the stale list, and the ids with a new fat box (for
-    // the move buffer).
-    struct ApplyLists
-    {
-        std::vector<ProxyId> stale;
-        std::vector<ProxyId> buffered;
-    };
-    ApplyLists m_applyLists;
+    // ApplyQueued's scratch for a queue of QueueMove's, in queue order: the ids whose fat box changed (for the move
+    // buffer). A queue of QueueFatMove's needs none: each of its boxes is new, so its ids are that list. The stale
+    // ids need none either: ApplyQueued lends ApplyRange the tail of m_stale, from m_staleTail.
+    std::vector<ProxyId> m_refattened;
+    size_t m_staleTail = 0; // m_stale's size before the ApplyQueued call that is running
     mutable std::atomic<bool> m_hasQueued{false}; // m_queuedCount > 0, readable without the lock
     mutable std::atomic<bool> m_hasStale{false};  // !m_stale.empty(), readable without the lock
     mutable std::mutex m_queueMutex;              // serialises const calls that apply the queue

@@ -33,7 +33,7 @@ Stats QuadtreeBroadPhase::GetStats() const
         int64_t(m_queued.capacity() * sizeof(QueuedMove)) +
         int64_t(m_blockPairs.capacity() * sizeof(std::vector<Pair>)) +
         m_blockRoom * int64_t(sizeof(uint8_t)) + int64_t(m_applyCounts.capacity() * sizeof(ApplyCounts)) +
-        int64_t((m_applyLists.stale.capacity() + m_applyLists.buffered.capacity()) * sizeof(ProxyId));
+        int64_t(m_refattened.capacity() * sizeof(ProxyId));
     for (const std::vector<Pair>& pairs : m_blockPairs)
     {
         s.memoryBytes += int64_t(pairs.capacity() * sizeof(Pair));

@@ -184,8 +184,10 @@ void QuadtreeBroadPhase::ApplyQueued(Clock::time_point* now, int threads)
     const int64_t blocks = (count + kApplyBlock - 1) / kApplyBlock;
     const bool parallel = threads > 1 && blocks >= 2 && count >= int64_t(m_config.parallelThreshold);
     // Everything this call allocates is reserved here, before any change: std::bad_alloc leaves the queue as it was.
-    ReserveAtLeast(m_applyLists.stale, size_t(count));
-    ReserveAtLeast(m_applyLists.buffered, size_t(count));
+    if (!m_queueHoldsFat)
+    {
+        ReserveAtLeast(m_refattened, size_t(count));
+    }
     ReserveAtLeast(m_stale, m_stale.size() + size_t(count));
     m_pool.ReserveBuffer(size_t(count));
     if (parallel)
@@ -194,11 +196,17 @@ void QuadtreeBroadPhase::ApplyQueued(Clock::time_point* now, int threads)
         m_applyCounts.resize(size_t(blocks));
     }
     ++m_mutations;
-    std::vector<ProxyId>& buffered = m_applyLists.buffered;
-    std::vector<ProxyId>& stale = m_applyLists.stale;
-    // Within the capacities reserved above: no allocation. Each range lists its ids from its own start.
-    buffered.resize(size_t(count));
-    stale.resize(size_t(count));
+    // Within the capacities reserved above: no allocation. Each range lists its ids from its own start: the ids
+    // with a new fat box in m_refattened (or the queue itself), the stale ids in m_stale's tail, which is cut back
+    // to the ones listed below. Nothing reads m_stale until then.
+    if (!m_queueHoldsFat)
+    {
+        m_refattened.resize(size_t(count));
+    }
+    m_staleTail = m_stale.size();
+    m_stale.resize(m_staleTail + size_t(count));
+    ProxyId* const buffered = m_queueHoldsFat ? m_queuedIds.data() : m_refattened.data();
+    ProxyId* const stale = m_stale.data() + m_staleTail;
     size_t n = 0;
     size_t ns = 0;
     int32_t outsideDelta = 0;
@@ -213,16 +221,30 @@ void QuadtreeBroadPhase::ApplyQueued(Clock::time_point* now, int threads)
             state[size_t(m_queueHoldsFat ? m_queuedIds[size_t(i)] : m_queued[size_t(i)].id)] &=
                 ProxyPool::kClearPendingMask;
         }
-        RunBlocks(blocks, threads, &QuadtreeBroadPhase::ApplyBlock, "FindPairs");
-        // The blocks' lists, joined in block order: the lists of one range over the whole queue.
+        try
+        {
+            RunBlocks(blocks, threads, &QuadtreeBroadPhase::ApplyBlock, "FindPairs");
+        }
+        catch (...)
+        {
+            m_stale.resize(m_staleTail); // as before the call: the borrowed tail is not a list of stale ids
+            throw;
+        }
+        // The blocks' lists, joined in block order: the lists of one range over the whole queue. Each moves to a
+        // place before its own (std::copy: a forward copy never overwrites what it has yet to read). A queue of
+        // QueueFatMove's lists every id already.
         for (int64_t b = 0; b < blocks; ++b)
         {
             const ApplyCounts& c = m_applyCounts[size_t(b)];
             const size_t from = size_t(b * kApplyBlock);
-            std::copy_n(buffered.begin() + std::ptrdiff_t(from), size_t(c.changed),
-                        buffered.begin() + std::ptrdiff_t(n));
-            std::copy_n(stale.begin() + std::ptrdiff_t(from), size_t(c.stale),
-                        stale.begin() + std::ptrdiff_t(ns));
+            if (!m_queueHoldsFat && n < from)
+            {
+                std::copy(buffered + from, buffered + from + c.changed, buffered + n);
+            }
+            if (ns < from)
+            {
+                std::copy(stale + from, stale + from + c.stale, stale + ns);
+            }
             n += size_t(c.changed);
             ns += size_t(c.stale);
             outsideDelta += c.outsideDelta;
@@ -238,10 +260,9 @@ void QuadtreeBroadPhase::ApplyQueued(Clock::time_point* now, int threads)
     m_pyramid.AddOutsideDelta(outsideDelta);
     // In queue order, so the stale list and the move buffer are the ones MoveProxy calls would have built (less
     // the proxies already re-placed in their cell).
-    m_stale.insert(m_stale.end(), stale.begin(), stale.begin() + std::ptrdiff_t(ns));
-    m_pool.Buffer(buffered.data(), n);
-    stale.clear();
-    buffered.clear();
+    m_stale.resize(m_staleTail + ns);
+    m_pool.Buffer(buffered, n);
+    m_refattened.clear();
     m_queuedCount = 0;
     m_hasQueued.store(false, std::memory_order_release);
     if (m_queued.size() > 2 * QueueLimit() ||
@@ -252,7 +273,7 @@ void QuadtreeBroadPhase::ApplyQueued(Clock::time_point* now, int threads)
         std::vector<ProxyId>(std::min(m_queuedIds.size(), std::max<size_t>(64, size_t(m_pool.LiveCount()))))
             .swap(m_queuedIds);
         UpdateFastRoom();
-        m_applyLists = ApplyLists{};
+        std::vector<ProxyId>().swap(m_refattened);
     }
     NoteStale();
     const Clock::time_point end = Clock::now();
@@ -287,24 +308,26 @@ QuadtreeBroadPhase::ApplyCounts QuadtreeBroadPhase::ApplyRange(int64_t begin, in
     const FatPolicy policy = m_policy;
     // QueueFatMove's caller has its boxes already: only the boxes computed here are copied to the mirror.
     const BoxMirror mirror = m_queueHoldsFat ? BoxMirror{} : m_mirror;
-    int32_t* const out = m_applyLists.buffered.data() + begin;
-    ProxyId* const stale = m_applyLists.stale.data() + begin;
+    ProxyId* const stale = m_stale.data() + m_staleTail + begin;
+    const ProxyId* changed = nullptr; // the ids with a new fat box, in queue order
     size_t n = 0;
     if (m_queueHoldsFat)
     {
-        // The boxes are in the pool already (EnqueueFat).
-        const ProxyId* const ids = m_queuedIds.data();
-        for (int64_t i = begin; i < end; ++i)
+        // The boxes are in the pool already (EnqueueFat), and every one is new: the queue lists them.
+        changed = m_queuedIds.data() + begin;
+        n = size_t(end - begin);
+        if (clearPending)
         {
-            if (clearPending)
+            for (size_t k = 0; k < n; ++k)
             {
-                state[size_t(ids[i])] &= ProxyPool::kClearPendingMask;
+                state[size_t(changed[k])] &= ProxyPool::kClearPendingMask;
             }
-            out[n++] = ids[i];
         }
     }
     else
     {
+        int32_t* const out = m_refattened.data() + begin;
+        changed = out;
         for (int64_t i = begin; i < end; ++i)
         {
             const QueuedMove& move = moves[i];
@@ -320,7 +343,7 @@ QuadtreeBroadPhase::ApplyCounts QuadtreeBroadPhase::ApplyRange(int64_t begin, in
     size_t ns = 0;
     for (size_t k = 0; k < n; ++k)
     {
-        const ProxyId id = out[k];
+        const ProxyId id = changed[k];
         if (mirror.Enabled())
         {
             mirror.Write(id, boxes[id]);
