@@ -29,10 +29,9 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 from qpbench import circles, frames, outputs, phases, queries, replay, report, run, step  # noqa: E402
-from qpbench.bench_common import HEADLINE_ENGINES  # noqa: E402
+from qpbench.bench_common import HEADLINE_ENGINES, PARTS  # noqa: E402
 from quadphase_tools import machine  # noqa: E402
 
-PARTS = ("step", "phases", "replay", "queries", "circles")
 TOOLS = ("qp-record", "qp-replay", "qp-step-stock", "qp-step-quadtree",
          "qp-query-stock", "qp-query-quadtree", "qp-circles")
 
@@ -123,7 +122,7 @@ def main():
     print(f"bench.py: {args.profile} profile, {args.rounds} rounds, levels "
           f"{', '.join(lv for lv, _ in args.levels)}; work directory {args.work}", flush=True)
     info = dict(machine.describe(args.levels[0][1]), profile=args.profile, rounds=args.rounds, scale=args.scale,
-                ccd=args.ccd, levels=args.levels, timing={})
+                ccd=args.ccd, levels=args.levels, timing={}, parts=args.parts, replay_engines=args.replay_engines)
     info["level_flags"] = {lv: machine.cmake_cache(d).get("CMAKE_CXX_FLAGS_RELEASE", "?") for lv, d in args.levels}
     print(f"machine: {info['cpu']}, {info['cores']} CPUs; Box2D source: {info['box2d']['sha256'][:16]}... "
           f"({info['box2d']['kind']})", flush=True)

@@ -9,6 +9,7 @@ from quadphase_tools.stats import ratio
 from . import report
 
 TEXT = report.prose(os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "prose", "bench.md"))
+PARTS = ("step", "phases", "replay", "queries", "circles")  # bench.py --parts: the sections a run may choose
 HEADLINE_ENGINES = ["stock", "quadtree-1t", "quadtree-2t"]  # what further optimisation levels replay
 QUADTREES = HEADLINE_ENGINES[1:]  # quadphase at 1 and 2 threads
 LABELS = {"stock": "Box2D b2DynamicTree (stock)", "quadtree-1t": "quadphase, 1 thread",

@@ -5,7 +5,7 @@ frames goals, each section's table (the section modules write them), both optimi
 from quadphase_tools.stats import ratio
 
 from . import report
-from .bench_common import QUADTREES, TEXT, keyed, section, threads, x_stock
+from .bench_common import PARTS, QUADTREES, TEXT, keyed, section, threads, x_stock
 from .circles import circles_section
 from .phases import phase_lows, phase_section
 from .queries import QUERY_GOALS, QUERY_WORKLOADS, floor_ms, query_section
@@ -25,7 +25,15 @@ def met(ok):
 def markdown(info, data, levels, plots, frame_goals=()):
     d = data[levels[0]]
     by, rp = keyed(d["step"]), keyed(d["replay"])
-    command = (" --full" if info["profile"] == "full" else "") + (" --opt both" if len(levels) > 1 else "")
+    # bench/run.sh's levels: --full means both unless --opt says one, the quick profile O2 unless it says O3.
+    full = info["profile"] == "full"
+    command = (" --full" if full else "") + (" --opt both" if len(levels) > 1 else "")
+    if len(levels) == 1 and (full or levels[0] != "O2"):
+        command += " --opt " + levels[0]
+    if info.get("parts") and list(info["parts"]) != list(PARTS):  # a run of some parts only
+        command += " --parts " + ",".join(info["parts"])
+    if info.get("replay_engines"):
+        command += " --replay-engines " + info["replay_engines"]
     L = ["# quadphase benchmark results", "", TEXT["header"].format(
         profile=info["profile"], command=command, rounds=info["rounds"], minutes=info["timing"].get("total_s", 0) / 60)]
     if info.get("scale", 1.0) != 1.0:
