@@ -194,10 +194,74 @@ TEST_CASE("A task system that skips items or runs items out of range loses no pa
 namespace
 {
 
-// Every one of 3,000 proxies, or a third of them, moved between two FindPairs calls, with QueueMove or the Box2D
-// adapter's way (the fat-box test at the call, QueueFatMove when the box changed): queues of 1,000 to 3,000 moves,
-// applied in blocks on the executor when FindPairs runs in parallel. Each call's pairs are checked against the
-// brute-force reference's set; returns the pair history, and Validate()'s answer at the end in `invalid`.
+// 3,000 proxies in a 150 m square, in a quadtree of `config` and in the brute-force reference.
+struct MovingWorld
+{
+    static constexpr int kProxies = 3000;
+    const FatPolicy policy{};
+    QuadtreeBroadPhase qt;
+    BruteForceBroadPhase brute;
+    std::mt19937 rng;
+    std::vector<Box> tight;
+    std::vector<ProxyId> ids;
+
+    MovingWorld(const Config& config, uint32_t seed) : qt(policy, config), brute(policy), rng(seed)
+    {
+        std::uniform_real_distribution<float> pos(0.0f, 150.0f), size(0.1f, 1.5f);
+        for (int i = 0; i < kProxies; ++i)
+        {
+            const float x = pos(rng), y = pos(rng);
+            const float w = size(rng), h = size(rng);
+            tight.push_back(Box{x, y, x + w, y + h});
+            ids.push_back(qt.CreateProxy(tight.back(), nullptr));
+            REQUIRE(brute.CreateProxy(tight.back(), nullptr) == ids.back());
+        }
+    }
+
+    // Moves proxy i by up to `reach` on each axis, with QueueMove or the Box2D adapter's way (the fat-box test at
+    // the call, QueueFatMove when the box changed).
+    void Move(int i, float reach, bool fatMoves)
+    {
+        std::uniform_real_distribution<float> step(-reach, reach);
+        const Vec2 d{step(rng), step(rng)};
+        Box& t = tight[size_t(i)];
+        t = Box{t.minX + d.x, t.minY + d.y, t.maxX + d.x, t.maxY + d.y};
+        if (fatMoves)
+        {
+            Box fat;
+            bool sane = false;
+            if (!KeptAndSaneSimd(policy, qt.GetPool().Fat(ids[size_t(i)]), &t.minX, &t.maxX, d, fat, sane))
+            {
+                REQUIRE(sane);
+                qt.QueueFatMove(ids[size_t(i)], t, fat);
+            }
+        }
+        else
+        {
+            qt.QueueMove(ids[size_t(i)], t, d);
+        }
+        brute.MoveProxy(ids[size_t(i)], t, d);
+    }
+
+    // The quadtree's FindPairs, in its order, once its set was checked against the reference's.
+    std::vector<Pair> FindPairsChecked()
+    {
+        std::vector<Pair> pairs, reference;
+        qt.FindPairs(pairs);
+        brute.FindPairs(reference);
+        std::vector<Pair> sorted = pairs;
+        std::sort(sorted.begin(), sorted.end());
+        std::sort(reference.begin(), reference.end());
+        reference.erase(std::unique(reference.begin(), reference.end()), reference.end());
+        REQUIRE(sorted == reference);
+        return pairs;
+    }
+};
+
+// Every one of 3,000 proxies, or a third of them, moved between two FindPairs calls (MovingWorld::Move): queues of
+// 1,000 to 3,000 moves, applied in blocks on the executor when FindPairs runs in parallel. Each call's pairs are
+// checked against the brute-force reference's set; returns the pair history, and Validate()'s answer at the end in
+// `invalid`.
 std::vector<std::vector<Pair>> MassMoves(bool fatMoves, int threads, const TaskSystem& tasks,
                                          Executor executor, std::string& invalid)
 {
@@ -206,59 +270,18 @@ std::vector<std::vector<Pair>> MassMoves(bool fatMoves, int threads, const TaskS
     config.taskSystem = tasks;
     config.executor = executor;
     config.parallelThreshold = 0;
-    const FatPolicy policy{};
-    QuadtreeBroadPhase qt(policy, config);
-    BruteForceBroadPhase brute(policy);
-    std::mt19937 rng(96000u);
-    std::uniform_real_distribution<float> pos(0.0f, 150.0f), size(0.1f, 1.5f), step(-0.7f, 0.7f);
-    constexpr int kProxies = 3000;
-    std::vector<Box> tight;
-    std::vector<ProxyId> ids;
-    for (int i = 0; i < kProxies; ++i)
-    {
-        const float x = pos(rng), y = pos(rng);
-        const float w = size(rng), h = size(rng);
-        tight.push_back(Box{x, y, x + w, y + h});
-        ids.push_back(qt.CreateProxy(tight.back(), nullptr));
-        REQUIRE(brute.CreateProxy(tight.back(), nullptr) == ids.back());
-    }
+    MovingWorld world(config, 96000u);
     std::vector<std::vector<Pair>> history;
     for (int round = 0; round < 12; ++round)
     {
-        for (int i = round % 3 == 2 ? round % 3 : 0; i < kProxies; i += round % 3 == 2 ? 3 : 1)
+        for (int i = round % 3 == 2 ? round % 3 : 0; i < MovingWorld::kProxies; i += round % 3 == 2 ? 3 : 1)
         {
-            const Vec2 d{step(rng), step(rng)};
-            Box& t = tight[size_t(i)];
-            t = Box{t.minX + d.x, t.minY + d.y, t.maxX + d.x, t.maxY + d.y};
-            if (fatMoves)
-            {
-                Box fat;
-                bool sane = false;
-                if (!KeptAndSaneSimd(policy, qt.GetPool().Fat(ids[size_t(i)]), &t.minX, &t.maxX, d, fat,
-                                     sane))
-                {
-                    REQUIRE(sane);
-                    qt.QueueFatMove(ids[size_t(i)], t, fat);
-                }
-            }
-            else
-            {
-                qt.QueueMove(ids[size_t(i)], t, d);
-            }
-            brute.MoveProxy(ids[size_t(i)], t, d);
+            world.Move(i, 0.7f, fatMoves);
         }
-        std::vector<Pair> pairs, reference;
-        qt.FindPairs(pairs);
-        brute.FindPairs(reference);
-        std::vector<Pair> sorted = pairs;
-        std::sort(sorted.begin(), sorted.end());
-        std::sort(reference.begin(), reference.end());
-        reference.erase(std::unique(reference.begin(), reference.end()), reference.end());
         CAPTURE(round);
-        REQUIRE(sorted == reference);
-        history.push_back(pairs);
+        history.push_back(world.FindPairsChecked());
     }
-    invalid = qt.Validate();
+    invalid = world.qt.Validate();
     return history;
 }
 
@@ -332,54 +355,20 @@ TEST_CASE("A task system that throws during the queued moves' apply loses no mov
         config.threads = 4;
         config.taskSystem = tasks.Get();
         config.parallelThreshold = 0;
-        const FatPolicy policy{};
-        QuadtreeBroadPhase qt(policy, config);
-        BruteForceBroadPhase brute(policy);
-        std::mt19937 rng(97000u);
-        std::uniform_real_distribution<float> pos(0.0f, 150.0f), size(0.1f, 1.5f), step(-2.0f, 2.0f);
-        std::vector<Box> tight;
-        for (int i = 0; i < 3000; ++i)
+        MovingWorld world(config, 97000u);
+        REQUIRE(world.FindPairsChecked().size() > 500);
+        for (int i = 0; i < MovingWorld::kProxies; ++i)
         {
-            const float x = pos(rng), y = pos(rng);
-            tight.push_back(Box{x, y, x + size(rng), y + size(rng)});
-            REQUIRE(qt.CreateProxy(tight.back(), nullptr) == brute.CreateProxy(tight.back(), nullptr));
-        }
-        std::vector<Pair> pairs, reference;
-        qt.FindPairs(pairs);
-        brute.FindPairs(reference);
-        for (int i = 0; i < 3000; ++i)
-        {
-            const Vec2 d{step(rng), step(rng)};
-            Box& t = tight[size_t(i)];
-            t = Box{t.minX + d.x, t.minY + d.y, t.maxX + d.x, t.maxY + d.y};
-            Box fat;
-            bool sane = false;
-            if (!fatMoves)
-            {
-                qt.QueueMove(ProxyId(i), t, d);
-            }
-            else if (!KeptAndSaneSimd(policy, qt.GetPool().Fat(ProxyId(i)), &t.minX, &t.maxX, d, fat, sane))
-            {
-                REQUIRE(sane);
-                qt.QueueFatMove(ProxyId(i), t, fat);
-            }
-            brute.MoveProxy(ProxyId(i), t, d);
+            world.Move(i, 2.0f, fatMoves);
         }
         tasks.throwAt = tasks.enqueues + 1; // the apply's blocks: the first task of the next FindPairs
-        pairs.clear();
-        REQUIRE_THROWS_AS(qt.FindPairs(pairs), std::runtime_error);
-        REQUIRE(tasks.ranges > 0); // the earlier calls ran on the task system
+        std::vector<Pair> pairs;
+        REQUIRE_THROWS_AS(world.qt.FindPairs(pairs), std::runtime_error);
+        REQUIRE(tasks.ranges > 0); // the earlier call ran on the task system
         REQUIRE(pairs.empty());
-        REQUIRE(qt.Validate() == "");
-        qt.FindPairs(pairs);
-        reference.clear();
-        brute.FindPairs(reference);
-        std::sort(pairs.begin(), pairs.end());
-        std::sort(reference.begin(), reference.end());
-        reference.erase(std::unique(reference.begin(), reference.end()), reference.end());
-        REQUIRE(reference.size() > 1000);
-        REQUIRE(pairs == reference);
-        REQUIRE(qt.Validate() == "");
+        REQUIRE(world.qt.Validate() == "");
+        REQUIRE(world.FindPairsChecked().size() > 1000);
+        REQUIRE(world.qt.Validate() == "");
     }
 }
 
