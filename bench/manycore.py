@@ -204,7 +204,16 @@ def circles_results(rows):
     return {(r["engine"], r["threads"]): (r["n_max"], r["capped"]) for r in rows if r.get("kind") == "result"}
 
 
-def circles_section(res, counts, cap):
+def circles_bound(rows, p):
+    """(f, bound): pair finding's share f of quadphase's 1-thread frame at its largest passing size, and the most its
+    count can grow at p threads while the rest of the frame runs on one thread, 1 / (1 - f + f/p) (Amdahl, with the
+    frame's work in proportion to the circles). (None, None) for runs whose qp-circles did not report the share."""
+    f = next((r.get("find_share") for r in rows if r.get("kind") == "result" and r["engine"] == "quadtree"
+              and r["threads"] == 1), None)
+    return (f, 1.0 / (1.0 - f + f / p)) if f is not None and p >= 1 else (None, None)
+
+
+def circles_section(res, counts, cap, bound=(None, None)):
     if not res:
         return []
     p, one = counts[-1], res.get(("quadtree", 1), (None, 0))[0]
@@ -216,8 +225,13 @@ def circles_section(res, counts, cap):
     L += table(["", *(f"{t} thread{'s' if t > 1 else ''}" for t in counts), f"{p} ÷ 1", "stock"], [
         ["quadphase"] + [f"{fmt(v)}{' (capped)' if capped else ''}" for v, capped in n]
         + [f"**{fmt(x)}×**", fmt(res.get(("stock", 1), (None, 0))[0])]]) + [""]
+    f, most = bound
+    if f is not None:
+        L += [TEXT["circles_bound"].format(share=f"{100 * f:.0f}", p=p, most=fmt(most)), ""]
     return L + [f"Goal at {p} threads{'' if p >= 16 else ' (set for 16)'}: ≥{GOALS['circles']:g}×"
-                f"{TICK[(x or 0) >= GOALS['circles']]}; rising with the threads{TICK[rising]}.", ""]
+                f"{TICK[(x or 0) >= GOALS['circles']]}"
+                + (f" (at most {fmt(most)}× while the rest of the frame is serial)" if f is not None else "")
+                + f"; rising with the threads{TICK[rising]}.", ""]
 
 
 def frames_section(rows, run):
@@ -340,7 +354,8 @@ def main():
     mismatch = open(os.path.join(out, "mismatch.txt")).read().strip() \
         if os.path.exists(os.path.join(out, "mismatch.txt")) else ""
     cases = replay_cases(read_lines(os.path.join(out, "replay.jsonl")))
-    circles = circles_results(read_lines(os.path.join(out, "circles.jsonl")))
+    circle_rows = read_lines(os.path.join(out, "circles.jsonl"))
+    circles = circles_results(circle_rows)
     _, frame_rows = frames.frame_rows(read_lines(os.path.join(out, "frames.jsonl")))
     os.makedirs(args.results, exist_ok=True)
     parts = {k: timing.get(k, "?") for k in ("record", "check", "replay", "circles", "frames")}
@@ -356,7 +371,7 @@ def main():
         L += ["![speed-up against threads (replay), circles against threads, CPU seconds of the frames scenes]"
               "(manycore.png)", ""]
     L += replay_section(cases, counts, mismatch) if cases else []
-    L += circles_section(circles, counts, run.get("circles_cap_s"))
+    L += circles_section(circles, counts, run.get("circles_cap_s"), circles_bound(circle_rows, counts[-1]))
     L += frames_section(frame_rows, run)
     L += proj
     L += report.machine_section(info)

@@ -23,6 +23,9 @@
 // from UpdatePairs are added (duplicates dropped), every listed pair whose fat boxes no longer overlap is
 // dropped, and every listed pair is circle-tested; all of that is in the frame time, the same code for both.
 //
+// Each evaluation also gives the part of its frames spent finding pairs (find_ms; Detector::FindMs), and the result
+// that part's share of the frame at the largest passing N (find_share): only that part runs on the threads.
+//
 // Search: N doubles from --start while it passes (or halves while it fails), then bisects until the bracket
 // is within --precision; an evaluation fails early when one frame takes more than 5x the budget.
 // --max-seconds caps the search (the result is then flagged "capped" and is the largest N that passed).
@@ -108,11 +111,18 @@ struct Circles
 };
 
 /// One engine's collision detection over a set of circles. Frame() is the timed part; returns touching pairs.
+/// FindMs() is the part of the last Frame() spent finding pairs: the only part a quadtree's threads share
+/// (FindPairs; stock's UpdatePairs with its callbacks; the whole n^2 loop for brute force). The rest of a frame
+/// (the moves, the pair list, the circle tests) runs on one thread whatever --threads says.
 class Detector
 {
 public:
     virtual ~Detector() = default;
     virtual int64_t Frame(const Circles& c) = 0;
+    double FindMs() const { return m_findMs; }
+
+protected:
+    double m_findMs = 0.0;
 };
 
 class Pairwise final : public Detector
@@ -120,6 +130,7 @@ class Pairwise final : public Detector
 public:
     int64_t Frame(const Circles& c) override
     {
+        const int64_t t0 = NowNs();
         const int n = c.Count();
         const float d2 = 4.0f * kRadius * kRadius;
         int64_t hits = 0;
@@ -132,6 +143,7 @@ public:
                 hits += dx * dx + dy * dy < d2 ? 1 : 0;
             }
         }
+        m_findMs = double(NowNs() - t0) * 1e-6;
         return hits;
     }
 };
@@ -155,7 +167,9 @@ public:
             m_bp.MoveProxy(i, c.Tight(i), quadphase::Vec2{0, 0});
         }
         m_pairs.clear();
+        const int64_t t0 = NowNs();
         m_bp.FindPairs(m_pairs);
+        m_findMs = double(NowNs() - t0) * 1e-6;
         int64_t hits = 0;
         for (const quadphase::Pair& p : m_pairs)
         {
@@ -204,12 +218,16 @@ public:
         }
         if constexpr (kStock)
         {
+            const int64_t t0 = NowNs();
             m_bp.UpdatePairs(this);
+            m_findMs = double(NowNs() - t0) * 1e-6;
         }
         else
         {
             m_pairs.clear();
+            const int64_t t0 = NowNs();
             m_bp.FindPairs(m_pairs);
+            m_findMs = double(NowNs() - t0) * 1e-6;
             for (const quadphase::Pair& p : m_pairs)
             {
                 AddPair(m_bp.GetUserData(p.a), m_bp.GetUserData(p.b));
@@ -285,13 +303,14 @@ std::unique_ptr<Detector> Make(const Settings& s, const Circles& c)
 struct Evaluation
 {
     double medianMs = 0.0; // median over repeats of the mean frame time
+    double findMs = 0.0;   // the same repeats' mean time finding pairs (Detector::FindMs)
     int64_t touching = 0;
     bool aborted = false;
 };
 
 Evaluation Evaluate(const Settings& s, int n)
 {
-    std::vector<double> perRepeat;
+    std::vector<double> perRepeat, findPerRepeat;
     Evaluation e;
     for (int r = 0; r < s.repeats; ++r)
     {
@@ -303,6 +322,7 @@ Evaluation Evaluate(const Settings& s, int n)
         // Brute force and the paper's design keep nothing from one frame to the next: no warm-up needed.
         const int warmup = s.engine == "pairwise" || s.engine == "paper" ? 0 : s.warmup;
         double total = 0.0; // over the timed frames, those after the warm-up
+        double findTotal = 0.0;
         for (int f = 0; f < warmup + s.frames && !e.aborted; ++f)
         {
             c.Move();
@@ -313,6 +333,7 @@ Evaluation Evaluate(const Settings& s, int n)
             if (f >= warmup)
             {
                 total += ms;
+                findTotal += d->FindMs();
                 e.touching = touching;
             }
         }
@@ -322,8 +343,19 @@ Evaluation Evaluate(const Settings& s, int n)
             return e;
         }
         perRepeat.push_back(total / s.frames);
+        findPerRepeat.push_back(findTotal / s.frames);
     }
-    e.medianMs = Median(perRepeat);
+    // The repeat (or the two) whose frame time is the median, and its pair finding.
+    std::vector<size_t> order(perRepeat.size());
+    for (size_t i = 0; i < order.size(); ++i)
+    {
+        order[i] = i;
+    }
+    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return perRepeat[a] < perRepeat[b]; });
+    const size_t m = order.size();
+    const size_t lower = order[(m - 1) / 2], upper = order[m / 2];
+    e.medianMs = 0.5 * (perRepeat[lower] + perRepeat[upper]);
+    e.findMs = 0.5 * (findPerRepeat[lower] + findPerRepeat[upper]);
     return e;
 }
 
@@ -376,6 +408,7 @@ int main(int argc, char** argv)
     long n = std::max(2L, args.GetInt("start", 1000));
     bool capped = false;
     int evaluations = 0;
+    double findShare = std::nan(""); // pair finding's share of the frame at the largest size that passed
     auto evaluate = [&](long count) {
         const Evaluation e = Evaluate(s, int(count));
         ++evaluations;
@@ -383,15 +416,20 @@ int main(int argc, char** argv)
         const JsonLine j = base("eval")
                                .Int("n", count)
                                .Num("ms", e.medianMs)
+                               .Num("find_ms", e.findMs)
                                .Int("pass", pass ? 1 : 0)
                                .Int("aborted", e.aborted ? 1 : 0)
                                .Int("touching", e.touching)
                                .Num("elapsed_s", elapsed());
         AppendLine(jsonPath, j.Text());
-        std::printf("  %s n=%ld: %.2f ms/frame%s %s\n", s.engine.c_str(), count, e.medianMs,
-                    e.aborted ? " (aborted)" : "", pass ? "pass" : "fail");
+        std::printf("  %s n=%ld: %.2f ms/frame (finding pairs %.2f)%s %s\n", s.engine.c_str(), count,
+                    e.medianMs, e.findMs, e.aborted ? " (aborted)" : "", pass ? "pass" : "fail");
         std::fflush(stdout);
         (pass ? lo : hi) = count;
+        if (pass && count == lo)
+        {
+            findShare = e.findMs / e.medianMs;
+        }
     };
     // Checked before each evaluation: past --max-seconds (or `over`: past --max-n), the search stops, capped.
     auto cap = [&](bool over) {
@@ -417,10 +455,12 @@ int main(int argc, char** argv)
                            .Int("n_fail", hi)
                            .Int("capped", capped ? 1 : 0)
                            .Int("evaluations", evaluations)
-                           .Num("seconds", elapsed());
+                           .Num("seconds", elapsed())
+                           .Num("find_share", findShare);
     AppendLine(jsonPath, j.Text());
-    std::printf("%s threads=%d depth=%s: %ld circles under %.1f ms per frame%s (%d evaluations, %.0f s)\n",
+    std::printf("%s threads=%d depth=%s: %ld circles under %.1f ms per frame%s (%d evaluations, %.0f s); "
+                "finding pairs %.0f%% of the frame there\n",
                 s.engine.c_str(), s.threads, s.depthArg.c_str(), lo, s.budgetMs, capped ? " (capped)" : "",
-                evaluations, elapsed());
+                evaluations, elapsed(), 100.0 * findShare);
     return 0;
 }
