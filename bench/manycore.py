@@ -210,7 +210,7 @@ def circles_bound(rows, p):
     frame's work in proportion to the circles). (None, None) for runs whose qp-circles did not report the share."""
     f = next((r.get("find_share") for r in rows if r.get("kind") == "result" and r["engine"] == "quadtree"
               and r["threads"] == 1), None)
-    return (f, 1.0 / (1.0 - f + f / p)) if f is not None and p >= 1 else (None, None)
+    return (f, 1.0 / (1.0 - f + f / p)) if f is not None else (None, None)
 
 
 def circles_section(res, counts, cap, bound=(None, None)):

@@ -122,6 +122,16 @@ public:
     double FindMs() const { return m_findMs; }
 
 protected:
+    /// Runs find() and keeps its time for FindMs().
+    template <typename Find>
+    void TimeFind(Find&& find)
+    {
+        const int64_t t0 = NowNs();
+        find();
+        m_findMs = double(NowNs() - t0) * 1e-6;
+    }
+
+private:
     double m_findMs = 0.0;
 };
 
@@ -130,20 +140,20 @@ class Pairwise final : public Detector
 public:
     int64_t Frame(const Circles& c) override
     {
-        const int64_t t0 = NowNs();
         const int n = c.Count();
         const float d2 = 4.0f * kRadius * kRadius;
         int64_t hits = 0;
-        for (int i = 0; i < n; ++i)
-        {
-            const float xi = c.x[size_t(i)], yi = c.y[size_t(i)];
-            for (int j = i + 1; j < n; ++j)
+        TimeFind([&] {
+            for (int i = 0; i < n; ++i)
             {
-                const float dx = xi - c.x[size_t(j)], dy = yi - c.y[size_t(j)];
-                hits += dx * dx + dy * dy < d2 ? 1 : 0;
+                const float xi = c.x[size_t(i)], yi = c.y[size_t(i)];
+                for (int j = i + 1; j < n; ++j)
+                {
+                    const float dx = xi - c.x[size_t(j)], dy = yi - c.y[size_t(j)];
+                    hits += dx * dx + dy * dy < d2 ? 1 : 0;
+                }
             }
-        }
-        m_findMs = double(NowNs() - t0) * 1e-6;
+        });
         return hits;
     }
 };
@@ -167,9 +177,7 @@ public:
             m_bp.MoveProxy(i, c.Tight(i), quadphase::Vec2{0, 0});
         }
         m_pairs.clear();
-        const int64_t t0 = NowNs();
-        m_bp.FindPairs(m_pairs);
-        m_findMs = double(NowNs() - t0) * 1e-6;
+        TimeFind([&] { m_bp.FindPairs(m_pairs); });
         int64_t hits = 0;
         for (const quadphase::Pair& p : m_pairs)
         {
@@ -218,16 +226,12 @@ public:
         }
         if constexpr (kStock)
         {
-            const int64_t t0 = NowNs();
-            m_bp.UpdatePairs(this);
-            m_findMs = double(NowNs() - t0) * 1e-6;
+            TimeFind([&] { m_bp.UpdatePairs(this); });
         }
         else
         {
             m_pairs.clear();
-            const int64_t t0 = NowNs();
-            m_bp.FindPairs(m_pairs);
-            m_findMs = double(NowNs() - t0) * 1e-6;
+            TimeFind([&] { m_bp.FindPairs(m_pairs); });
             for (const quadphase::Pair& p : m_pairs)
             {
                 AddPair(m_bp.GetUserData(p.a), m_bp.GetUserData(p.b));
@@ -426,7 +430,7 @@ int main(int argc, char** argv)
                     e.medianMs, e.findMs, e.aborted ? " (aborted)" : "", pass ? "pass" : "fail");
         std::fflush(stdout);
         (pass ? lo : hi) = count;
-        if (pass && count == lo)
+        if (pass) // the largest size that passed so far
         {
             findShare = e.findMs / e.medianMs;
         }
